@@ -1,0 +1,128 @@
+/* accel.c - the intersector front end: dispatch to our BVH, brute force
+ * (every sphere for every ray, as the seed renderers do) or Embree. */
+#include "accel.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "bvh.h"
+#include "sphere.h"
+#include "status.h"
+
+#ifdef RT_HAVE_EMBREE
+#include "accel_embree.h"
+#endif
+
+struct rt_accel {
+    rt_accel_kind kind;
+    const rt_scene *scene;
+    rt_bvh *bvh;
+    void *embree;
+};
+
+int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
+{
+    *out = NULL;
+    rt_accel *a = calloc(1, sizeof *a);
+    if (!a)
+        return RT_ENOMEM;
+    a->kind = kind;
+    a->scene = s;
+    int st = RT_OK;
+    switch (kind) {
+    case RT_ACCEL_BVH:
+        st = rt_bvh_build(&a->bvh, s);
+        break;
+    case RT_ACCEL_BRUTE:
+        break;
+    case RT_ACCEL_EMBREE:
+#ifdef RT_HAVE_EMBREE
+        st = rt_embree_build(&a->embree, s);
+#else
+        st = RT_EUNSUPPORTED;
+#endif
+        break;
+    default:
+        st = RT_EINVAL;
+    }
+    if (st) {
+        rt_accel_free(a);
+        return st;
+    }
+    *out = a;
+    return RT_OK;
+}
+
+void rt_accel_free(rt_accel *a)
+{
+    if (!a)
+        return;
+    rt_bvh_free(a->bvh);
+#ifdef RT_HAVE_EMBREE
+    rt_embree_free(a->embree);
+#endif
+    free(a);
+}
+
+static int brute_closest(const rt_scene *s, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    const double a = rt_v3_len2(ray->dir);
+    double closest = tmax;
+    uint32_t best = UINT32_MAX;
+    for (uint32_t i = 0; i < s->n_spheres; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        double t;
+        if (rt_sphere_intersect(sp->center, sp->radius * sp->radius, ray, a, tmin, closest, &t)) {
+            closest = t;
+            best = i;
+        }
+    }
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = closest;
+    hit->prim = best;
+    return 1;
+}
+
+int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    switch (a->kind) {
+    case RT_ACCEL_BVH:
+        return rt_bvh_closest(a->bvh, ray, tmin, tmax, hit);
+#ifdef RT_HAVE_EMBREE
+    case RT_ACCEL_EMBREE:
+        return rt_embree_closest(a->embree, a->scene, ray, tmin, tmax, hit);
+#endif
+    default:
+        return brute_closest(a->scene, ray, tmin, tmax, hit);
+    }
+}
+
+const char *rt_accel_name(rt_accel_kind kind)
+{
+    switch (kind) {
+    case RT_ACCEL_BVH:
+        return "bvh";
+    case RT_ACCEL_BRUTE:
+        return "brute";
+    case RT_ACCEL_EMBREE:
+        return "embree";
+    }
+    return "?";
+}
+
+int rt_accel_parse(const char *name)
+{
+    if (!strcmp(name, "bvh"))
+        return RT_ACCEL_BVH;
+    if (!strcmp(name, "brute"))
+        return RT_ACCEL_BRUTE;
+    if (!strcmp(name, "embree"))
+        return RT_ACCEL_EMBREE;
+    return -1;
+}
+
+size_t rt_accel_bytes(const rt_accel *a)
+{
+    return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0);
+}

@@ -1,0 +1,41 @@
+/* accel.h - closest-hit queries against the scene's spheres. One interface,
+ * several intersectors: our BVH (default), brute force (the seeds'
+ * algorithm, kept as the correctness oracle) and, in builds configured with
+ * -DRT_EMBREE=ON, Embree 3 for side-by-side benchmarks. */
+#ifndef RT_ACCEL_H
+#define RT_ACCEL_H
+
+#include <stdint.h>
+
+#include "scene.h"
+#include "vec.h"
+
+typedef enum rt_accel_kind {
+    RT_ACCEL_BVH = 0,
+    RT_ACCEL_BRUTE = 1,
+    RT_ACCEL_EMBREE = 2,
+} rt_accel_kind;
+
+typedef struct rt_hit {
+    double t;      /* distance along the ray (in units of |dir|) */
+    uint32_t prim; /* index into scene->spheres */
+} rt_hit;
+
+typedef struct rt_accel rt_accel;
+
+/* Builds the structure for scene s (which must outlive it). Returns
+ * RT_EUNSUPPORTED for RT_ACCEL_EMBREE in builds without Embree. */
+int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind);
+void rt_accel_free(rt_accel *a);
+
+/* Closest sphere hit with tmin < t < tmax; returns 1 on a hit. Safe to call
+ * from many threads at once. */
+int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+
+/* "bvh", "brute", "embree"; and parsing back (-1 when unknown). */
+const char *rt_accel_name(rt_accel_kind kind);
+int rt_accel_parse(const char *name);
+/* Bytes the structure occupies (for the memory report). */
+size_t rt_accel_bytes(const rt_accel *a);
+
+#endif

@@ -1,0 +1,525 @@
+/* bvh.c - binned-SAH binary build, collapsed into 4-wide nodes with float
+ * boxes; closest-hit traversal in SIMD over the four child boxes, exact
+ * sphere tests in double.
+ *
+ * The float boxes only decide which spheres get tested; hits are computed by
+ * rt_sphere_intersect in double, the same code brute force runs. Boxes are
+ * widened by a margin larger than the float rounding of box and ray, so the
+ * closest hit equals brute force's (tests/test_accel.c checks this). */
+#include "bvh.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sphere.h"
+#include "status.h"
+
+#if defined(__SSE2__) && !defined(RT_NO_SIMD)
+#include <emmintrin.h>
+#define RT_BVH_SSE 1
+#endif
+
+#define LEAF_MAX 8
+#define BINS 16
+#define STACK_MAX 256
+
+typedef struct node4 {
+    float bmin[3][4];
+    float bmax[3][4];
+    int32_t child[4]; /* >= 0: node index; < 0: ~(start << 4 | (count - 1)) */
+    int32_t nchild;
+    int32_t pad[3];
+} node4;
+
+typedef struct prim {
+    double c[3];
+    double r2;
+    uint32_t index;
+    uint32_t pad;
+} prim;
+
+struct rt_bvh {
+    node4 *nodes;
+    int n_nodes, cap_nodes;
+    prim *prims;
+    uint32_t n_prims;
+    int depth, leaves;
+};
+
+/* ---- build ------------------------------------------------------------- */
+
+typedef struct box {
+    double lo[3], hi[3];
+} box;
+
+typedef struct bnode { /* temporary binary node */
+    box b;
+    int left, right; /* -1 for leaves */
+    uint32_t start, count;
+} bnode;
+
+typedef struct builder {
+    bnode *n;
+    int count, cap;
+    box *pbox;
+    double (*cent)[3];
+    uint32_t *order;
+    int err;
+} builder;
+
+static void box_empty(box *b)
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = DBL_MAX;
+        b->hi[k] = -DBL_MAX;
+    }
+}
+static void box_grow(box *b, const box *o)
+{
+    for (int k = 0; k < 3; k++) {
+        if (o->lo[k] < b->lo[k])
+            b->lo[k] = o->lo[k];
+        if (o->hi[k] > b->hi[k])
+            b->hi[k] = o->hi[k];
+    }
+}
+static double box_area(const box *b)
+{
+    double d0 = b->hi[0] - b->lo[0], d1 = b->hi[1] - b->lo[1], d2 = b->hi[2] - b->lo[2];
+    if (d0 < 0 || d1 < 0 || d2 < 0)
+        return 0.0;
+    return 2.0 * (d0 * d1 + d1 * d2 + d2 * d0);
+}
+
+static int new_bnode(builder *B)
+{
+    if (B->count == B->cap) {
+        int nc = B->cap ? 2 * B->cap : 256;
+        bnode *q = realloc(B->n, (size_t)nc * sizeof *q);
+        if (!q) {
+            B->err = RT_ENOMEM;
+            return -1;
+        }
+        B->n = q;
+        B->cap = nc;
+    }
+    return B->count++;
+}
+
+/* Builds the subtree over order[start, start+count); returns its index. */
+static int build_rec(builder *B, uint32_t start, uint32_t count, int depth)
+{
+    int id = new_bnode(B);
+    if (id < 0)
+        return -1;
+    box b, cb;
+    box_empty(&b);
+    box_empty(&cb);
+    for (uint32_t i = start; i < start + count; i++) {
+        uint32_t p = B->order[i];
+        box_grow(&b, &B->pbox[p]);
+        box c = {{B->cent[p][0], B->cent[p][1], B->cent[p][2]}, {B->cent[p][0], B->cent[p][1], B->cent[p][2]}};
+        box_grow(&cb, &c);
+    }
+    B->n[id].b = b;
+    B->n[id].left = B->n[id].right = -1;
+    B->n[id].start = start;
+    B->n[id].count = count;
+    if (count <= 2)
+        return id;
+
+    /* Binned SAH over the longest-extent axes: try all three. */
+    double best_cost = INFINITY;
+    int best_axis = -1, best_split = 0;
+    for (int axis = 0; axis < 3; axis++) {
+        double lo = cb.lo[axis], ext = cb.hi[axis] - cb.lo[axis];
+        if (!(ext > 0))
+            continue;
+        box bb[BINS];
+        uint32_t bc[BINS] = {0};
+        for (int k = 0; k < BINS; k++)
+            box_empty(&bb[k]);
+        double scale = BINS / ext;
+        for (uint32_t i = start; i < start + count; i++) {
+            uint32_t p = B->order[i];
+            int k = (int)((B->cent[p][axis] - lo) * scale);
+            k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+            bc[k]++;
+            box_grow(&bb[k], &B->pbox[p]);
+        }
+        double right_area[BINS];
+        uint32_t right_count[BINS];
+        box acc;
+        box_empty(&acc);
+        uint32_t n = 0;
+        for (int k = BINS - 1; k > 0; k--) {
+            box_grow(&acc, &bb[k]);
+            n += bc[k];
+            right_area[k] = box_area(&acc);
+            right_count[k] = n;
+        }
+        box_empty(&acc);
+        n = 0;
+        for (int k = 0; k < BINS - 1; k++) {
+            box_grow(&acc, &bb[k]);
+            n += bc[k];
+            if (n == 0 || right_count[k + 1] == 0)
+                continue;
+            double cost = box_area(&acc) * n + right_area[k + 1] * right_count[k + 1];
+            if (cost < best_cost) {
+                best_cost = cost;
+                best_axis = axis;
+                best_split = k;
+            }
+        }
+    }
+    /* Leaf if splitting does not pay (traversal step ~ one sphere test). */
+    double leaf_cost = box_area(&b) * count;
+    double split_cost = box_area(&b) * 1.0 + best_cost;
+    if (depth > 48)
+        best_axis = -1; /* degenerate input: fall back to median splits */
+    if (best_axis < 0 || (count <= LEAF_MAX && leaf_cost <= split_cost)) {
+        if (count <= LEAF_MAX || best_axis < 0) {
+            if (count > LEAF_MAX) { /* all centroids equal: split in the middle */
+                uint32_t half = count / 2;
+                int l = build_rec(B, start, half, depth + 1);
+                int r = build_rec(B, start + half, count - half, depth + 1);
+                B->n[id].left = l;
+                B->n[id].right = r;
+            }
+            return id;
+        }
+    }
+    double lo = cb.lo[best_axis], scale = BINS / (cb.hi[best_axis] - cb.lo[best_axis]);
+    uint32_t i = start, j = start + count;
+    while (i < j) {
+        uint32_t p = B->order[i];
+        int k = (int)((B->cent[p][best_axis] - lo) * scale);
+        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+        if (k <= best_split) {
+            i++;
+        } else {
+            j--;
+            B->order[i] = B->order[j];
+            B->order[j] = p;
+        }
+    }
+    uint32_t nl = i - start;
+    if (nl == 0 || nl == count)
+        nl = count / 2;
+    int l = build_rec(B, start, nl, depth + 1);
+    int r = build_rec(B, start + nl, count - nl, depth + 1);
+    if (l < 0 || r < 0)
+        return -1;
+    B->n[id].left = l;
+    B->n[id].right = r;
+    return id;
+}
+
+static float round_down(double v, double margin)
+{
+    float f = (float)(v - margin);
+    return (double)f > v - margin ? nextafterf(f, -INFINITY) : f;
+}
+static float round_up(double v, double margin)
+{
+    float f = (float)(v + margin);
+    return (double)f < v + margin ? nextafterf(f, INFINITY) : f;
+}
+
+typedef struct collapser {
+    rt_bvh *out;
+    builder *B;
+    double margin_base;
+} collapser;
+
+static int emit_leaf(const bnode *n) { return ~(int32_t)((n->start << 4) | (n->count - 1)); }
+
+static int collapse(collapser *C, int bid, int depth)
+{
+    rt_bvh *o = C->out;
+    builder *B = C->B;
+    if (depth > o->depth)
+        o->depth = depth;
+    if (o->n_nodes == o->cap_nodes) {
+        int nc = o->cap_nodes ? 2 * o->cap_nodes : 64;
+        node4 *q = NULL;
+        if (posix_memalign((void **)&q, 64, (size_t)nc * sizeof *q) != 0)
+            return RT_ENOMEM;
+        if (o->nodes)
+            memcpy(q, o->nodes, (size_t)o->n_nodes * sizeof *q);
+        free(o->nodes);
+        o->nodes = q;
+        o->cap_nodes = nc;
+    }
+    int me = o->n_nodes++;
+    int kids[4], nk = 0;
+    if (B->n[bid].left < 0) { /* a root that is a single leaf */
+        kids[nk++] = bid;
+    } else {
+        kids[nk++] = B->n[bid].left;
+        kids[nk++] = B->n[bid].right;
+    }
+    /* Open the largest internal child until there are four. */
+    while (nk < 4) {
+        int best = -1;
+        double best_area = -1;
+        for (int k = 0; k < nk; k++) {
+            const bnode *c = &B->n[kids[k]];
+            if (c->left >= 0 && box_area(&c->b) > best_area) {
+                best_area = box_area(&c->b);
+                best = k;
+            }
+        }
+        if (best < 0)
+            break;
+        int open = kids[best];
+        kids[best] = B->n[open].left;
+        kids[nk++] = B->n[open].right;
+    }
+    node4 tmp;
+    memset(&tmp, 0, sizeof tmp);
+    tmp.nchild = nk;
+    for (int k = 0; k < 4; k++) {
+        if (k >= nk) {
+            for (int a = 0; a < 3; a++) {
+                tmp.bmin[a][k] = INFINITY;
+                tmp.bmax[a][k] = -INFINITY;
+            }
+            tmp.child[k] = 0;
+            continue;
+        }
+        const bnode *c = &B->n[kids[k]];
+        for (int a = 0; a < 3; a++) {
+            double mag = fmax(fabs(c->b.lo[a]), fabs(c->b.hi[a]));
+            double margin = 1e-6 * (1.0 + mag) + C->margin_base;
+            tmp.bmin[a][k] = round_down(c->b.lo[a], margin);
+            tmp.bmax[a][k] = round_up(c->b.hi[a], margin);
+        }
+        if (c->left < 0) {
+            tmp.child[k] = emit_leaf(c);
+            o->leaves++;
+        } else {
+            int sub = collapse(C, kids[k], depth + 1);
+            if (sub < 0)
+                return sub;
+            tmp.child[k] = sub;
+        }
+    }
+    o->nodes[me] = tmp;
+    return me;
+}
+
+int rt_bvh_build(rt_bvh **out, const rt_scene *s)
+{
+    *out = NULL;
+    rt_bvh *o = calloc(1, sizeof *o);
+    if (!o)
+        return RT_ENOMEM;
+    uint32_t n = s->n_spheres;
+    builder B;
+    memset(&B, 0, sizeof B);
+    B.pbox = malloc((size_t)(n ? n : 1) * sizeof *B.pbox);
+    B.cent = malloc((size_t)(n ? n : 1) * sizeof *B.cent);
+    B.order = malloc((size_t)(n ? n : 1) * sizeof *B.order);
+    o->prims = malloc((size_t)(n ? n : 1) * sizeof *o->prims);
+    int st = (!B.pbox || !B.cent || !B.order || !o->prims) ? RT_ENOMEM : RT_OK;
+    double extent = 0.0;
+    for (uint32_t i = 0; i < n && !st; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        double r = fabs(sp->radius);
+        double c[3] = {sp->center.x, sp->center.y, sp->center.z};
+        for (int k = 0; k < 3; k++) {
+            B.pbox[i].lo[k] = c[k] - r;
+            B.pbox[i].hi[k] = c[k] + r;
+            B.cent[i][k] = c[k];
+            extent = fmax(extent, fabs(c[k]) + r);
+        }
+        B.order[i] = i;
+    }
+    if (!st && n > 0) {
+        int root = build_rec(&B, 0, n, 0);
+        st = root < 0 ? (B.err ? B.err : RT_ENOMEM) : B.err;
+        if (!st) {
+            for (uint32_t i = 0; i < n; i++) {
+                const rt_sphere *sp = &s->spheres[B.order[i]];
+                prim *p = &o->prims[i];
+                p->c[0] = sp->center.x;
+                p->c[1] = sp->center.y;
+                p->c[2] = sp->center.z;
+                p->r2 = sp->radius * sp->radius;
+                p->index = B.order[i];
+                p->pad = 0;
+            }
+            o->n_prims = n;
+            if (!st) {
+                /* Ray origins inside the scene are rounded to float too:
+                 * widen every box by a little more than that rounding. */
+                collapser C = {o, &B, 4.0 * extent * FLT_EPSILON};
+                int r = collapse(&C, root, 1);
+                if (r < 0)
+                    st = r;
+            }
+        }
+    }
+    free(B.n);
+    free(B.pbox);
+    free(B.cent);
+    free(B.order);
+    if (st) {
+        rt_bvh_free(o);
+        return st;
+    }
+    *out = o;
+    return RT_OK;
+}
+
+void rt_bvh_free(rt_bvh *b)
+{
+    if (!b)
+        return;
+    free(b->nodes);
+    free(b->prims);
+    free(b);
+}
+
+size_t rt_bvh_bytes(const rt_bvh *b)
+{
+    return sizeof *b + (size_t)b->cap_nodes * sizeof(node4) + (size_t)b->n_prims * sizeof(prim);
+}
+
+void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth)
+{
+    *nodes = b->n_nodes;
+    *leaves = b->leaves;
+    *depth = b->depth;
+}
+
+/* ---- traversal --------------------------------------------------------- */
+
+static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, double a, double tmin,
+                           double *closest, uint32_t *best)
+{
+    uint32_t v = ~(uint32_t)code;
+    uint32_t start = v >> 4, count = (v & 15u) + 1;
+    int any = 0;
+    for (uint32_t i = start; i < start + count; i++) {
+        const prim *p = &b->prims[i];
+        double t;
+        if (rt_sphere_intersect(rt_v3(p->c[0], p->c[1], p->c[2]), p->r2, ray, a, tmin, *closest, &t)) {
+            *closest = t;
+            *best = p->index;
+            any = 1;
+        }
+    }
+    return any;
+}
+
+static inline float safe_inv(double d)
+{
+    float f = (float)d;
+    if (fabsf(f) < 1e-30f)
+        f = f < 0 ? -1e-30f : 1e-30f;
+    return 1.0f / f;
+}
+
+int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    if (!b->n_nodes)
+        return 0;
+    const double a = rt_v3_len2(ray->dir);
+    double closest = tmax;
+    uint32_t best = UINT32_MAX;
+    int32_t stack_node[STACK_MAX];
+    float stack_t[STACK_MAX];
+    int sp = 0;
+    stack_node[sp] = 0;
+    stack_t[sp++] = 0.0f;
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+    const float tmin_f = (float)tmin * 0.999f;
+#ifdef RT_BVH_SSE
+    const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
+    const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
+    const __m128 vtmin = _mm_set1_ps(tmin_f);
+#endif
+    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
+    while (sp > 0) {
+        sp--;
+        if (stack_t[sp] > tfar_f)
+            continue;
+        int32_t code = stack_node[sp];
+        if (code < 0) {
+            if (leaf_hit(b, code, ray, a, tmin, &closest, &best))
+                tfar_f = (float)closest * 1.0001f;
+            continue;
+        }
+        const node4 *n = &b->nodes[code];
+        float tn[4];
+        int mask;
+#ifdef RT_BVH_SSE
+        {
+            __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[0]), ox), ix);
+            __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[0]), ox), ix);
+            __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[1]), oy), iy);
+            __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[1]), oy), iy);
+            __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[2]), oz), iz);
+            __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[2]), oz), iz);
+            __m128 vn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)),
+                                   _mm_max_ps(_mm_min_ps(t0z, t1z), vtmin));
+            __m128 vf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
+                                   _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tfar_f)));
+            mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf));
+            _mm_storeu_ps(tn, vn);
+        }
+#else
+        mask = 0;
+        for (int k = 0; k < 4; k++) {
+            float near = tmin_f, far = tfar_f;
+            for (int ax = 0; ax < 3; ax++) {
+                float t0 = (n->bmin[ax][k] - fo[ax]) * fi[ax];
+                float t1 = (n->bmax[ax][k] - fo[ax]) * fi[ax];
+                float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+                near = lo > near ? lo : near;
+                far = hi < far ? hi : far;
+            }
+            tn[k] = near;
+            if (near <= far)
+                mask |= 1 << k;
+        }
+#endif
+        mask &= (1 << n->nchild) - 1;
+        if (!mask)
+            continue;
+        /* Push hit children far to near so the nearest is popped first. */
+        int32_t cc[4];
+        float ct[4];
+        int m = 0;
+        for (int k = 0; k < 4; k++) {
+            if (!(mask & (1 << k)))
+                continue;
+            int j = m++;
+            while (j > 0 && ct[j - 1] < tn[k]) {
+                ct[j] = ct[j - 1];
+                cc[j] = cc[j - 1];
+                j--;
+            }
+            ct[j] = tn[k];
+            cc[j] = n->child[k];
+        }
+        if (sp + m > STACK_MAX) /* cannot happen for depth < 64; stay safe */
+            m = STACK_MAX - sp;
+        for (int k = 0; k < m; k++) {
+            stack_node[sp] = cc[k];
+            stack_t[sp++] = ct[k];
+        }
+    }
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = closest;
+    hit->prim = best;
+    return 1;
+}

@@ -1,0 +1,50 @@
+/* camera.c - the book's thin-lens camera (lookfrom/lookat/vup, vfov,
+ * aperture, focus distance). */
+#include "camera.h"
+
+#include <math.h>
+
+#include "sample.h"
+#include "status.h"
+
+int rt_camera_init(rt_camera *cam, const rt_camera_desc *d, double aspect)
+{
+    if (!(d->vfov_deg > 0.0 && d->vfov_deg < 180.0) || !(aspect > 0.0) || !isfinite(aspect) ||
+        !(d->focus_dist > 0.0) || !(d->aperture >= 0.0))
+        return RT_EINVAL;
+    rt_vec3 back = rt_v3_sub(d->lookfrom, d->lookat);
+    if (rt_v3_len2(back) == 0.0)
+        return RT_EINVAL;
+    const double pi = 3.14159265358979323846;
+    double h = tan(d->vfov_deg * pi / 180.0 / 2.0);
+    double vh = 2.0 * h, vw = aspect * vh;
+    cam->w = rt_v3_unit(back);
+    rt_vec3 side = rt_v3_cross(d->vup, cam->w);
+    if (!(rt_v3_len2(side) > 1e-24))
+        return RT_EINVAL;
+    cam->u = rt_v3_unit(side);
+    cam->v = rt_v3_cross(cam->w, cam->u);
+    cam->origin = d->lookfrom;
+    cam->horizontal = rt_v3_scale(cam->u, d->focus_dist * vw);
+    cam->vertical = rt_v3_scale(cam->v, d->focus_dist * vh);
+    cam->lower_left = rt_v3_sub(rt_v3_sub(rt_v3_sub(cam->origin, rt_v3_scale(cam->horizontal, 0.5)),
+                                          rt_v3_scale(cam->vertical, 0.5)),
+                                rt_v3_scale(cam->w, d->focus_dist));
+    cam->lens_radius = d->aperture / 2.0;
+    return RT_OK;
+}
+
+rt_ray rt_camera_ray(const rt_camera *cam, double s, double t, rt_rng *r)
+{
+    rt_vec3 offset = rt_v3(0, 0, 0);
+    if (cam->lens_radius > 0.0) {
+        rt_vec3 rd = rt_v3_scale(rt_sample_in_unit_disk(r), cam->lens_radius);
+        offset = rt_v3_add(rt_v3_scale(cam->u, rd.x), rt_v3_scale(cam->v, rd.y));
+    }
+    rt_ray ray;
+    ray.orig = rt_v3_add(cam->origin, offset);
+    rt_vec3 target = rt_v3_add(rt_v3_add(cam->lower_left, rt_v3_scale(cam->horizontal, s)),
+                               rt_v3_scale(cam->vertical, t));
+    ray.dir = rt_v3_sub(rt_v3_sub(target, cam->origin), offset);
+    return ray;
+}

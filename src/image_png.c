@@ -1,0 +1,111 @@
+/* image_png.c - PNG encoding and decoding with libpng; every libpng error
+ * is caught (setjmp) and turned into a status, and a failed write leaves no
+ * file behind. */
+#include <png.h>
+#include <setjmp.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "image_io.h"
+#include "status.h"
+
+static void png_err(png_structp png, png_const_charp msg)
+{
+    (void)msg; /* reported as RT_EPNG by the caller; modules never print */
+    png_longjmp(png, 1);
+}
+static void png_warn(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg;
+}
+
+int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
+                 const rt_text *text, int n_text)
+{
+    if (!width || !height || (bit_depth != 8 && bit_depth != 16) || width > PNG_USER_WIDTH_MAX ||
+        height > PNG_USER_HEIGHT_MAX)
+        return RT_EINVAL;
+    rt_atomic_file f;
+    int st = rt_atomic_open(&f, path);
+    if (st)
+        return st;
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_err, png_warn);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    png_textp chunks = n_text > 0 ? calloc((size_t)n_text, sizeof *chunks) : NULL;
+    if (!png || !info || (n_text > 0 && !chunks)) {
+        png_destroy_write_struct(&png, &info);
+        free(chunks);
+        rt_atomic_abort(&f);
+        return RT_ENOMEM;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        free(chunks);
+        rt_atomic_abort(&f);
+        return RT_EPNG;
+    }
+    png_init_io(png, f.fp);
+    png_set_IHDR(png, info, width, height, bit_depth, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    for (int i = 0; i < n_text; i++) {
+        chunks[i].compression = PNG_TEXT_COMPRESSION_NONE;
+        chunks[i].key = (png_charp)text[i].key;
+        chunks[i].text = (png_charp)text[i].value;
+    }
+    if (n_text > 0)
+        png_set_text(png, info, chunks, n_text);
+    png_write_info(png, info);
+    if (bit_depth == 16)
+        png_set_swap(png); /* PNG is big-endian; our buffer is host order */
+    size_t stride = (size_t)width * 3 * (size_t)(bit_depth / 8);
+    for (uint32_t y = 0; y < height; y++)
+        png_write_row(png, (png_const_bytep)rgb + (size_t)y * stride);
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    free(chunks);
+    return rt_atomic_commit(&f);
+}
+
+int rt_png_read(const char *path, uint8_t **rgb, uint32_t *width, uint32_t *height)
+{
+    *rgb = NULL;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return RT_EIO;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, png_err, png_warn);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    uint8_t *volatile buf = NULL;
+    if (!png || !info) {
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(fp);
+        return RT_ENOMEM;
+    }
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(fp);
+        free(buf);
+        return RT_EPNG;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    uint32_t w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+    if (png_get_bit_depth(png, info) != 8 || png_get_color_type(png, info) != PNG_COLOR_TYPE_RGB) {
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(fp);
+        return RT_EUNSUPPORTED;
+    }
+    buf = malloc((size_t)w * h * 3);
+    if (!buf)
+        png_longjmp(png, 1);
+    for (uint32_t y = 0; y < h; y++)
+        png_read_row(png, buf + (size_t)y * w * 3, NULL);
+    png_read_end(png, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    *rgb = buf;
+    *width = w;
+    *height = h;
+    return RT_OK;
+}

@@ -1,0 +1,234 @@
+/* main.c - one run of rt-mpi, top to bottom: options -> MPI -> checks ->
+ * scene (rank 0) -> broadcast -> acceleration structure -> distributed
+ * render -> image file -> summary. */
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "accel.h"
+#include "cli.h"
+#include "farm.h"
+#include "image.h"
+#include "image_io.h"
+#include "progress.h"
+#include "render.h"
+#include "scene.h"
+#include "status.h"
+
+#define EXIT_RUNTIME 1
+#define EXIT_USAGE 2
+
+/* Threads from the environment when -j is 0: OMP_NUM_THREADS if it is set
+ * (it must then be a positive whole number), else the rank's cores. */
+static int pick_threads(const rt_farm *f, const rt_options *o, char *err, size_t errlen)
+{
+    if (o->threads > 0)
+        return o->threads;
+    const char *env = getenv("OMP_NUM_THREADS");
+    if (env && *env) {
+        uint64_t v;
+        if (rt_cli_parse_u64(env, 1, 4096, &v) != 0) {
+            snprintf(err, errlen, "OMP_NUM_THREADS='%s' is not a whole number from 1 to 4096", env);
+            return -1;
+        }
+        return (int)v;
+    }
+    return rt_farm_default_threads(f);
+}
+
+/* Refuse up front a framebuffer the machine cannot hold: rank 0 keeps
+ * 24 bytes of sums and 3 bytes of output per pixel. */
+static int check_memory(const rt_options *o, char *err, size_t errlen)
+{
+    double need = (double)o->width * o->height * (3 * sizeof(int64_t) + 3);
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0;
+    if (have > 0 && need > 0.9 * have) {
+        snprintf(err, errlen,
+                 "a %u x %u image needs about %.1f GiB of memory on rank 0, more than this machine has "
+                 "(%.1f GiB)",
+                 o->width, o->height, need / 1073741824.0, have / 1073741824.0);
+        return -1;
+    }
+    return 0;
+}
+
+static uint32_t pick_band(const rt_options *o, int ranks)
+{
+    if (o->band > 0)
+        return o->band < o->height ? o->band : o->height;
+    /* Enough units for dynamic balance (>= 8 per rank), small enough to
+     * keep the tail short, at most 16 rows. */
+    uint32_t b = o->height / (uint32_t)(8 * ranks);
+    if (b > 16)
+        b = 16;
+    return b ? b : 1;
+}
+
+/* The command that reproduces this image: every option that changes a pixel,
+ * none that only changes how the work is spread (-j, --band, ranks) or where
+ * it goes (-o), so the file is byte-identical however it was rendered. */
+static void repro_command(const rt_options *o, char *buf, size_t n)
+{
+    static const char *diffuse[] = {"lambertian", "sphere", "hemisphere"};
+    snprintf(buf, n, "rt-mpi --width %u --height %u --samples %u --grid %d --max-depth %u --seed %" PRIu64
+             " --diffuse %s --accel %s",
+             o->width, o->height, o->samples, o->grid, o->max_depth, o->seed, diffuse[o->diffuse],
+             rt_accel_name((rt_accel_kind)o->accel));
+}
+
+int main(int argc, char **argv)
+{
+    rt_options opt;
+    rt_cli_defaults(&opt);
+    char err[512] = "";
+    rt_cli_action action = rt_cli_parse(argc, argv, &opt, err, sizeof err);
+
+    rt_farm farm;
+    if (rt_farm_init(&farm, &argc, &argv) != RT_OK) {
+        fprintf(stderr, "rt-mpi: error: MPI initialisation failed\n");
+        return EXIT_RUNTIME;
+    }
+    const int root = farm.rank == 0;
+
+    /* Every rank parsed the same argv; rank 0 alone checks the file system
+     * and tells the others. */
+    int code = 0;
+    if (action == RT_CLI_HELP || action == RT_CLI_VERSION) {
+        if (root) {
+            if (action == RT_CLI_HELP)
+                fputs(rt_cli_usage(), stdout);
+            else
+                printf("rt-mpi %s\n", RT_VERSION);
+        }
+        rt_farm_finalize(&farm);
+        return 0;
+    }
+    int threads = 1;
+    if (action == RT_CLI_ERROR) {
+        code = EXIT_USAGE;
+    } else if (root && rt_cli_check_output(&opt, err, sizeof err) != 0) {
+        code = EXIT_USAGE;
+    }
+    if (!code && root && check_memory(&opt, err, sizeof err) != 0)
+        code = EXIT_USAGE;
+    if (!code) {
+        threads = pick_threads(&farm, &opt, err, sizeof err);
+        if (threads < 0)
+            code = EXIT_USAGE;
+    }
+#ifndef RT_HAVE_EMBREE
+    if (!code && opt.accel == RT_ACCEL_EMBREE) {
+        snprintf(err, sizeof err, "--accel embree: this build has no Embree (configure with -DRT_EMBREE=ON)");
+        code = EXIT_USAGE;
+    }
+#endif
+    rt_farm_bcast_int(&farm, &code);
+    if (code) {
+        if (root && err[0])
+            fprintf(stderr, "rt-mpi: error: %s\n", err);
+        rt_farm_finalize(&farm);
+        return code;
+    }
+
+    /* Scene: drawn on rank 0 from its own stream, broadcast as bytes, and
+     * rebuilt from those bytes on every rank (rank 0 included). */
+    uint8_t *blob = NULL;
+    size_t blob_len = 0;
+    if (root) {
+        rt_scene built;
+        int st = rt_scene_build_final(&built, opt.seed, opt.grid);
+        if (!st)
+            st = rt_scene_serialize(&built, &blob, &blob_len);
+        if (st)
+            rt_farm_fail(&farm, EXIT_RUNTIME, "building the scene: %s", rt_status_str(st));
+        rt_scene_free(&built);
+    }
+    rt_farm_bcast_bytes(&farm, &blob, &blob_len);
+    rt_scene scene;
+    int st = rt_scene_deserialize(&scene, blob, blob_len);
+    if (st)
+        rt_farm_fail(&farm, EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
+    uint64_t scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, blob_len);
+    free(blob);
+
+    rt_accel *accel = NULL;
+    st = rt_accel_new(&accel, &scene, (rt_accel_kind)opt.accel);
+    if (st)
+        rt_farm_fail(&farm, EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(opt.accel),
+                     rt_status_str(st));
+    rt_render_params rp = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, (rt_diffuse)opt.diffuse};
+    rt_renderer renderer;
+    st = rt_render_init(&renderer, &scene, accel, &rp);
+    if (st)
+        rt_farm_fail(&farm, EXIT_USAGE, "camera: %s", rt_status_str(st));
+
+    uint32_t band = pick_band(&opt, farm.size);
+    rt_progress progress;
+    rt_progress_init(&progress, opt.height, opt.quiet || !root);
+    if (root && !opt.quiet)
+        fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s, %u-row bands\n",
+                opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene.n_spheres, farm.size,
+                farm.size > 1 ? "s" : "", threads, threads > 1 ? "s" : "", band);
+    rt_farm_job job = {&renderer, band, threads, 2, root ? &progress : NULL};
+    rt_farm_result res;
+    rt_farm_render(&farm, &job, &res);
+
+    if (root) {
+        rt_progress_finish(&progress, res.segments);
+        size_t npix = (size_t)opt.width * opt.height;
+        uint8_t *rgb = malloc(npix * 3);
+        if (!rgb)
+            rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the output image");
+        rt_image_to_rgb8(res.acc, npix, opt.samples, rgb);
+        uint64_t hash = rt_image_hash(rgb, npix * 3);
+        char seed_s[32], spp_s[32];
+        snprintf(seed_s, sizeof seed_s, "%" PRIu64, opt.seed);
+        snprintf(spp_s, sizeof spp_s, "%u", opt.samples);
+        char cmdline[512];
+        repro_command(&opt, cmdline, sizeof cmdline);
+        rt_text text[] = {
+            {"Software", "rt-mpi " RT_VERSION},
+            {"rt-mpi:seed", seed_s},
+            {"rt-mpi:samples", spp_s},
+            {"rt-mpi:command", cmdline},
+        };
+        st = rt_png_write(opt.output, rgb, opt.width, opt.height, 8, text, 4);
+        if (st)
+            rt_farm_fail(&farm, EXIT_RUNTIME, "writing %s: %s", opt.output, rt_status_str(st));
+        double rss_min = res.ranks[0].maxrss_mb, rss_max = rss_min;
+        for (int i = 1; i < farm.size; i++) {
+            if (res.ranks[i].maxrss_mb < rss_min)
+                rss_min = res.ranks[i].maxrss_mb;
+            if (res.ranks[i].maxrss_mb > rss_max)
+                rss_max = res.ranks[i].maxrss_mb;
+        }
+        printf("output:        %s\n", opt.output);
+        printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", opt.width, opt.height,
+               opt.samples, opt.max_depth, opt.seed);
+        printf("scene:         final, grid %d, %u spheres, hash %016" PRIx64 "\n", opt.grid, scene.n_spheres,
+               scene_hash);
+        printf("intersector:   %s\n", rt_accel_name(opt.accel));
+        printf("ranks:         %d x %d threads, %u units of %u rows\n", farm.size, threads, res.units, band);
+        printf("wall time:     %.3f s\n", res.wall);
+        printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res.segments,
+               res.wall > 0 ? (double)res.segments / res.wall / 1e6 : 0.0);
+        printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank\n", res.ranks[0].maxrss_mb, rss_min,
+               rss_max);
+        for (int i = 0; i < farm.size && farm.size > 1; i++)
+            printf("rank %d: %" PRIu64 " units, %" PRIu64 " rows, %.3f s busy, %.3f M segments/s\n", i,
+                   res.ranks[i].units, res.ranks[i].rows, res.ranks[i].busy,
+                   res.ranks[i].busy > 0 ? (double)res.ranks[i].segments / res.ranks[i].busy / 1e6 : 0.0);
+        printf("image hash:    %016" PRIx64 "\n", hash);
+        fflush(stdout);
+        free(rgb);
+        free(res.acc);
+        free(res.ranks);
+    }
+    rt_accel_free(accel);
+    rt_scene_free(&scene);
+    rt_farm_finalize(&farm);
+    return 0;
+}

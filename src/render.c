@@ -1,0 +1,100 @@
+/* render.c - path tracing of the book's materials with an iterative loop
+ * (no recursion, no allocation per ray), OpenMP over the pixels of a block. */
+#include "render.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "status.h"
+
+static inline int omp_thread(void)
+{
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+/* Shadow-acne bias of the book. */
+#define T_MIN 0.001
+
+int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p)
+{
+    if (p->width == 0 || p->height == 0 || p->samples == 0 || p->max_depth == 0)
+        return RT_EINVAL;
+    r->scene = s;
+    r->accel = a;
+    r->p = *p;
+    return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
+}
+
+rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
+{
+    const uint32_t W = r->p.width, H = r->p.height;
+    rt_rng rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
+    /* The seed renderer's mapping: v counts rows from the bottom. */
+    double u = ((double)x + rt_rng_double(&rng)) / (double)(W > 1 ? W - 1 : 1);
+    double v = ((double)(H - 1 - y) + rt_rng_double(&rng)) / (double)(H > 1 ? H - 1 : 1);
+    rt_ray ray = rt_camera_ray(&r->camera, u, v, &rng);
+    rt_vec3 throughput = rt_v3(1, 1, 1);
+    const rt_scene *s = r->scene;
+    uint64_t segs = 0;
+    for (uint32_t depth = 0; depth < r->p.max_depth; depth++) {
+        rt_hit hit;
+        segs++;
+        if (!rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit)) {
+            rt_vec3 ud = rt_v3_unit(ray.dir);
+            double t = 0.5 * (ud.y + 1.0);
+            rt_vec3 sky = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
+            *segments += segs;
+            return rt_v3_mul(throughput, sky);
+        }
+        const rt_sphere *sp = &s->spheres[hit.prim];
+        rt_surface rec;
+        rt_surface_from_sphere(&rec, sp, &ray, hit.t);
+        rt_vec3 att;
+        rt_ray next;
+        if (!rt_material_scatter(&s->materials[sp->material], &ray, &rec, r->p.diffuse, &rng, &att, &next))
+            break;
+        throughput = rt_v3_mul(throughput, att);
+        ray = next;
+    }
+    *segments += segs;
+    return rt_v3(0, 0, 0);
+}
+
+uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
+                        int nthreads, rt_render_poll_fn poll, void *poll_ctx)
+{
+    const uint32_t W = r->p.width;
+    const long npix = (long)(y1 - y0) * W;
+    uint64_t total = 0;
+#ifdef _OPENMP
+    if (nthreads <= 0)
+        nthreads = omp_get_max_threads();
+#else
+    (void)nthreads;
+#endif
+#pragma omp parallel for schedule(dynamic, 8) reduction(+ : total) num_threads(nthreads) if (nthreads > 1)
+    for (long i = 0; i < npix; i++) {
+        uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
+        int64_t sr = 0, sg = 0, sb = 0;
+        uint64_t segs = 0;
+        for (uint32_t s = s0; s < s1; s++) {
+            rt_vec3 c = rt_render_sample(r, x, y, s, &segs);
+            sr += rt_render_fix(c.x);
+            sg += rt_render_fix(c.y);
+            sb += rt_render_fix(c.z);
+        }
+        if (poll && omp_thread() == 0)
+            poll(poll_ctx);
+        int64_t *px = acc + i * 3;
+        px[0] += sr;
+        px[1] += sg;
+        px[2] += sb;
+        total += segs;
+    }
+    return total;
+}

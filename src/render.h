@@ -1,0 +1,69 @@
+/* render.h - the render core: traces the samples of a block of rows and adds
+ * them, in fixed point, to an accumulation buffer.
+ *
+ * Why fixed point: a pixel's value is the sum of its samples. Integer
+ * addition is associative, so any split of the work (bands, sample ranges,
+ * progressive passes, resumed checkpoints, partial sums added on rank 0) adds
+ * up to exactly the same bits. Each sample's colour is rounded to 2^-32 - far
+ * below what 8- or 16-bit output or a float can show. */
+#ifndef RT_RENDER_H
+#define RT_RENDER_H
+
+#include <stdint.h>
+
+#include "accel.h"
+#include "camera.h"
+#include "material.h"
+#include "scene.h"
+
+#define RT_FIX_SHIFT 32
+#define RT_FIX_ONE 4294967296.0
+/* Per-sample radiance is clamped to this so that sums of up to
+ * RT_MAX_SAMPLES samples fit in int64 (1024 * 2^20 * 2^32 = 2^62). */
+#define RT_SAMPLE_MAX 1024.0
+#define RT_MAX_SAMPLES (1u << 20)
+
+typedef struct rt_render_params {
+    uint32_t width, height;
+    uint32_t samples;   /* samples per pixel of the whole job */
+    uint32_t max_depth; /* maximum ray segments per path */
+    uint64_t seed;      /* sampling seed */
+    rt_diffuse diffuse;
+} rt_render_params;
+
+typedef struct rt_renderer {
+    const rt_scene *scene;
+    const rt_accel *accel;
+    rt_camera camera;
+    rt_render_params p;
+} rt_renderer;
+
+int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p);
+
+/* Colour of one sample of pixel (x, y), y counted from the top row. Adds the
+ * number of ray segments traced to *segments. */
+rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments);
+
+/* Called now and then (between pixels) by the thread that called
+ * rt_render_rows, so a caller can keep communication moving while the
+ * OpenMP team renders. */
+typedef void (*rt_render_poll_fn)(void *ctx);
+
+/* Adds samples [s0, s1) of rows [y0, y1) to acc, laid out as
+ * acc[((y - y0) * width + x) * 3 + channel], using nthreads OpenMP threads
+ * (0 = the OpenMP default). poll may be NULL. Returns the ray segments
+ * traced. */
+uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
+                        int nthreads, rt_render_poll_fn poll, void *poll_ctx);
+
+/* Fixed-point encoding of one sample's channel value. */
+static inline int64_t rt_render_fix(double c)
+{
+    if (!(c >= 0.0)) /* negative or NaN */
+        return 0;
+    if (c > RT_SAMPLE_MAX)
+        c = RT_SAMPLE_MAX;
+    return (int64_t)(c * RT_FIX_ONE + 0.5);
+}
+
+#endif

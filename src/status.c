@@ -1,0 +1,14 @@
+/* status.c - maps status codes to messages (one table, see status.h). */
+#include "status.h"
+
+const char *rt_status_str(int status)
+{
+    switch (status) {
+#define RT_STATUS_CASE(name, value, msg) \
+    case value:                          \
+        return msg;
+        RT_STATUS_TABLE(RT_STATUS_CASE)
+#undef RT_STATUS_CASE
+    }
+    return "unknown error";
+}

@@ -1,0 +1,30 @@
+/* status.h - the status codes every module returns, and their messages.
+ * Modules never print or exit; they return one of these and the caller
+ * (main or the farm layer) decides how to report it. */
+#ifndef RT_STATUS_H
+#define RT_STATUS_H
+
+#define RT_STATUS_TABLE(X)                                                    \
+    X(RT_OK, 0, "success")                                                    \
+    X(RT_ENOMEM, -1, "out of memory")                                         \
+    X(RT_EINVAL, -2, "invalid argument")                                      \
+    X(RT_EIO, -3, "input/output error")                                       \
+    X(RT_EFORMAT, -4, "malformed data")                                       \
+    X(RT_EVERSION, -5, "unsupported format version")                          \
+    X(RT_EOVERFLOW, -6, "size too large")                                     \
+    X(RT_EPNG, -7, "PNG encoder error")                                       \
+    X(RT_EMISMATCH, -8, "data belongs to a different job")                    \
+    X(RT_ECHECKSUM, -9, "checksum mismatch (corrupt or truncated)")           \
+    X(RT_ENOSPACE, -10, "no space left on device")                            \
+    X(RT_EUNSUPPORTED, -11, "unsupported")
+
+typedef enum rt_status {
+#define RT_STATUS_ENUM(name, value, msg) name = value,
+    RT_STATUS_TABLE(RT_STATUS_ENUM)
+#undef RT_STATUS_ENUM
+} rt_status;
+
+/* Human-readable text for a status code; never NULL. */
+const char *rt_status_str(int status);
+
+#endif

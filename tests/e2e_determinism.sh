@@ -1,0 +1,60 @@
+#!/bin/bash
+# e2e_determinism.sh BIN SERIAL_BIN PNGINFO MPIRUN
+# The PNG is byte-identical for any -np, -j, --band, with and without
+# mpirun, and in the build without MPI.
+BIN=$1 SERIAL=$2 PNGINFO=$3 MPIRUN=${4:-}
+source "$(dirname "$0")/lib.sh"
+ARGS=(--width 96 --height 64 -s 4 -q)
+
+"$BIN" "${ARGS[@]}" -j 1 -o "$WORK/ref.png" >"$WORK/ref.out"
+check_eq "reference run exit status" $? 0
+info=$("$PNGINFO" "$WORK/ref.png")
+check_eq "reference is a valid 96x64 PNG" "${info%% *}" "96x64"
+want_hash=$(sed -n 's/^image hash: *//p' "$WORK/ref.out")
+check_eq "printed image hash matches decoded pixels" "${info#* }" "$want_hash"
+
+same_as_ref() { # label file
+    if cmp -s "$WORK/ref.png" "$2"; then pass "$1: identical bytes"; else fail "$1: differs from reference"; fi
+}
+run_variant() { # label outfile command...
+    local label=$1 out=$2
+    shift 2
+    if "$@" >"$WORK/variant.out" 2>"$WORK/variant.err"; then
+        same_as_ref "$label" "$out"
+    else
+        fail "$label: exit status $? ($(head -c 300 "$WORK/variant.err"))"
+    fi
+}
+run_variant "no mpirun -j 2" "$WORK/a.png" "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/a.png"
+run_variant "no mpirun --band 1" "$WORK/b.png" "$BIN" "${ARGS[@]}" -j 2 --band 1 -o "$WORK/b.png"
+run_variant "no mpirun --band 7" "$WORK/c.png" "$BIN" "${ARGS[@]}" -j 1 --band 7 -o "$WORK/c.png"
+run_variant "build without MPI -j 2" "$WORK/d.png" "$SERIAL" "${ARGS[@]}" -j 2 -o "$WORK/d.png"
+if [ -n "$MPIRUN" ]; then
+    run_variant "mpirun -np 1" "$WORK/e.png" mpirun_np 1 "$BIN" "${ARGS[@]}" -o "$WORK/e.png"
+    run_variant "mpirun -np 2 -j 1" "$WORK/f.png" mpirun_np 2 "$BIN" "${ARGS[@]}" -j 1 -o "$WORK/f.png"
+    run_variant "mpirun -np 2 -j 2 --band 3" "$WORK/g.png" mpirun_np 2 "$BIN" "${ARGS[@]}" -j 2 --band 3 -o "$WORK/g.png"
+    run_variant "mpirun -np 3 --oversubscribe --band 1" "$WORK/h.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --band 1 -o "$WORK/h.png"
+    run_variant "mpirun -np 4 --oversubscribe --band 64" "$WORK/i.png" mpirun_np 4 "$BIN" "${ARGS[@]}" -j 1 --band 64 -o "$WORK/i.png"
+    # Every rank rendered something when there is enough work, and the
+    # summary accounts for all rows.
+    mpirun_np 2 "$BIN" --width 96 --height 64 -s 16 -j 1 --band 2 -o "$WORK/j.png" >"$WORK/j.out" 2>&1
+    rows=$(awk '/^rank [0-9]+:/ {s += $5} END {print s}' "$WORK/j.out")
+    check_eq "rows rendered over all ranks" "$rows" 64
+    busy_ranks=$(awk '/^rank [0-9]+:/ && $3 > 0 {n++} END {print n}' "$WORK/j.out")
+    check_eq "ranks that rendered bands" "$busy_ranks" 2
+    # A fatal error on one rank ends the whole job promptly, naming it.
+    start=$(date +%s)
+    RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$BIN" "${ARGS[@]}" -s 400 -o "$WORK/k.png" >"$WORK/k.out" 2>&1
+    status=$?
+    took=$(($(date +%s) - start))
+    if [ $status -ne 0 ] && grep -q "rt-mpi: error: rank 1: fault injected" "$WORK/k.out" && [ $took -lt 30 ]; then
+        pass "rank failure ends the job (status $status, ${took}s)"
+    else
+        fail "rank failure: status $status after ${took}s: $(grep -m1 error "$WORK/k.out")"
+    fi
+    [ ! -e "$WORK/k.png" ] && pass "no output file after a failed job" || fail "failed job left $WORK/k.png"
+fi
+# A different seed gives a different image (the comparison can fail).
+"$BIN" "${ARGS[@]}" --seed 7 -o "$WORK/s.png" >/dev/null
+if cmp -s "$WORK/ref.png" "$WORK/s.png"; then fail "seed 7 gave the seed-42 image"; else pass "seed changes the image"; fi
+finish

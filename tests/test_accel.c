@@ -1,0 +1,133 @@
+/* test_accel.c - the BVH must return the same closest hit as brute force
+ * (the correctness oracle) for many random rays in random scenes: rays from
+ * outside, from inside spheres, from surface points (as bounces start), and
+ * grazing rays tangent to a sphere. */
+#include <stdlib.h>
+
+#include "accel.h"
+#include "bvh.h"
+#include "check.h"
+#include "rng.h"
+#include "status.h"
+
+static rt_vec3 rnd_dir(rt_rng *r)
+{
+    for (;;) {
+        rt_vec3 v = rt_v3(2 * rt_rng_double(r) - 1, 2 * rt_rng_double(r) - 1, 2 * rt_rng_double(r) - 1);
+        double l = rt_v3_len2(v);
+        if (l > 1e-6 && l <= 1)
+            return rt_v3_scale(v, (0.1 + 3 * rt_rng_double(r)) / sqrt(l)); /* unnormalised */
+    }
+}
+
+static long mismatches, rays, hits;
+
+static void compare(const rt_accel *bvh, const rt_accel *brute, const rt_ray *ray, double tmin)
+{
+    rt_hit a = {0, 0}, b = {0, 0};
+    int ha = rt_accel_closest(bvh, ray, tmin, INFINITY, &a);
+    int hb = rt_accel_closest(brute, ray, tmin, INFINITY, &b);
+    rays++;
+    hits += hb;
+    int same = ha == hb && (!ha || (a.prim == b.prim && a.t == b.t) ||
+                            /* exact tie between two spheres */ (a.t == b.t));
+    if (!same) {
+        if (mismatches < 5)
+            fprintf(stderr, "mismatch: bvh %d prim %u t %.17g / brute %d prim %u t %.17g; ray o=(%g %g %g) d=(%g %g %g)\n",
+                    ha, a.prim, a.t, hb, b.prim, b.t, ray->orig.x, ray->orig.y, ray->orig.z, ray->dir.x,
+                    ray->dir.y, ray->dir.z);
+        mismatches++;
+    }
+}
+
+int main(void)
+{
+    rt_rng rng = rt_rng_for_stream(2024, RT_STREAM_TEST);
+    for (int scene_i = 0; scene_i < 24; scene_i++) {
+        rt_scene s;
+        if (scene_i % 3 == 0) {
+            CHECK_EQ_INT(rt_scene_build_final(&s, (uint64_t)scene_i, 1 + scene_i), RT_OK);
+        } else {
+            rt_scene_init(&s);
+            rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+            CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+            int n = 1 + (int)(rt_rng_double(&rng) * (scene_i % 2 ? 3000 : 40));
+            double spread = 1 + 50 * rt_rng_double(&rng);
+            for (int i = 0; i < n; i++) {
+                rt_vec3 c = rt_v3(spread * (2 * rt_rng_double(&rng) - 1), spread * (2 * rt_rng_double(&rng) - 1),
+                                  spread * (2 * rt_rng_double(&rng) - 1));
+                double r = rt_rng_double(&rng) < 0.02 ? 100 * rt_rng_double(&rng) + 0.01
+                                                      : 0.001 + rt_rng_double(&rng) * spread * 0.1;
+                if (rt_rng_double(&rng) < 0.1)
+                    r = -r; /* hollow */
+                CHECK_EQ_INT(rt_scene_add_sphere(&s, c, r, 0), RT_OK);
+            }
+        }
+        rt_accel *bvh, *brute;
+        CHECK_EQ_INT(rt_accel_new(&bvh, &s, RT_ACCEL_BVH), RT_OK);
+        CHECK_EQ_INT(rt_accel_new(&brute, &s, RT_ACCEL_BRUTE), RT_OK);
+        double ext = 0;
+        for (uint32_t i = 0; i < s.n_spheres; i++)
+            ext = fmax(ext, fabs(s.spheres[i].center.x) + fabs(s.spheres[i].radius));
+        ext = fmin(ext, 60);
+        for (int k = 0; k < 4000; k++) {
+            rt_ray ray;
+            const rt_sphere *sp = &s.spheres[(uint32_t)(rt_rng_double(&rng) * s.n_spheres)];
+            double R = fabs(sp->radius);
+            switch (k % 4) {
+            case 0: /* from anywhere around the scene */
+                ray.orig = rt_v3(ext * (4 * rt_rng_double(&rng) - 2), ext * (4 * rt_rng_double(&rng) - 2),
+                                 ext * (4 * rt_rng_double(&rng) - 2));
+                ray.dir = rnd_dir(&rng);
+                break;
+            case 1: { /* from inside a sphere */
+                rt_vec3 off = rnd_dir(&rng);
+                ray.orig = rt_v3_add(sp->center, rt_v3_scale(rt_v3_unit(off), 0.9 * R * rt_rng_double(&rng)));
+                ray.dir = rnd_dir(&rng);
+                break;
+            }
+            case 2: { /* from a surface point, as a bounce does */
+                rt_vec3 n = rt_v3_unit(rnd_dir(&rng));
+                ray.orig = rt_v3_add(sp->center, rt_v3_scale(n, R));
+                ray.dir = rnd_dir(&rng);
+                break;
+            }
+            default: { /* grazing: tangent to a sphere */
+                rt_vec3 n = rt_v3_unit(rnd_dir(&rng));
+                rt_vec3 t = rt_v3_unit(rt_v3_cross(n, rnd_dir(&rng)));
+                rt_vec3 p = rt_v3_add(sp->center, rt_v3_scale(n, R * (1 + 1e-9 * (rt_rng_double(&rng) - 0.5))));
+                ray.orig = rt_v3_sub(p, rt_v3_scale(t, 3 * R + 1));
+                ray.dir = rt_v3_scale(t, 0.5 + rt_rng_double(&rng));
+                break;
+            }
+            }
+            compare(bvh, brute, &ray, k % 8 < 4 ? 0.001 : 1e-9);
+        }
+        if (scene_i == 0) {
+            int nodes, leaves, depth;
+            rt_accel_free(bvh);
+            rt_bvh *b;
+            CHECK_EQ_INT(rt_bvh_build(&b, &s), RT_OK);
+            rt_bvh_stats(b, &nodes, &leaves, &depth);
+            CHECK(nodes >= 1 && leaves >= 1 && depth >= 1);
+            rt_bvh_free(b);
+            CHECK_EQ_INT(rt_accel_new(&bvh, &s, RT_ACCEL_BVH), RT_OK);
+        }
+        rt_accel_free(bvh);
+        rt_accel_free(brute);
+        rt_scene_free(&s);
+    }
+    /* Empty scene: nothing is hit. */
+    rt_scene e;
+    rt_scene_init(&e);
+    rt_accel *eb;
+    CHECK_EQ_INT(rt_accel_new(&eb, &e, RT_ACCEL_BVH), RT_OK);
+    rt_ray ray = {rt_v3(0, 0, 0), rt_v3(1, 0, 0)};
+    rt_hit h;
+    CHECK_EQ_INT(rt_accel_closest(eb, &ray, 0.001, INFINITY, &h), 0);
+    rt_accel_free(eb);
+    printf("%ld rays, %ld hits, %ld mismatches\n", rays, hits, mismatches);
+    CHECK_EQ_INT(mismatches, 0);
+    CHECK(hits > rays / 4);
+    CHECK_DONE();
+}

@@ -1,0 +1,98 @@
+/* test_png.c - PNG written with libpng and read back; text chunks; failed
+ * writes leave no file and never clobber an existing one. */
+#include <png.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "image_io.h"
+#include "status.h"
+
+static int count_text(const char *path, const char *key, const char *value)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return -1;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    int found = 0;
+    if (!setjmp(png_jmpbuf(png))) {
+        png_init_io(png, fp);
+        png_read_info(png, info);
+        png_textp t;
+        int n = 0;
+        png_get_text(png, info, &t, &n);
+        for (int i = 0; i < n; i++)
+            found += !strcmp(t[i].key, key) && !strcmp(t[i].text, value);
+    }
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return found;
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/rt-png-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/a.png", dir);
+    const uint32_t W = 37, H = 23;
+    uint8_t *rgb = malloc(W * H * 3);
+    for (uint32_t i = 0; i < W * H * 3; i++)
+        rgb[i] = (uint8_t)(i * 31 + i / 7);
+    rt_text text[] = {{"Software", "rt-mpi test"}, {"rt-mpi:seed", "42"}};
+    CHECK_EQ_INT(rt_png_write(path, rgb, W, H, 8, text, 2), RT_OK);
+    uint8_t *back = NULL;
+    uint32_t w = 0, h = 0;
+    CHECK_EQ_INT(rt_png_read(path, &back, &w, &h), RT_OK);
+    CHECK_EQ_INT(w, W);
+    CHECK_EQ_INT(h, H);
+    CHECK(back && memcmp(back, rgb, W * H * 3) == 0);
+    CHECK_EQ_INT(count_text(path, "rt-mpi:seed", "42"), 1);
+    CHECK_EQ_INT(count_text(path, "Software", "rt-mpi test"), 1);
+    free(back);
+
+    /* 16-bit write is a valid PNG (read by libpng at 16 bits). */
+    uint16_t *rgb16 = malloc(W * H * 3 * sizeof *rgb16);
+    for (uint32_t i = 0; i < W * H * 3; i++)
+        rgb16[i] = (uint16_t)(i * 977);
+    char p16[256];
+    snprintf(p16, sizeof p16, "%s/b16.png", dir);
+    CHECK_EQ_INT(rt_png_write(p16, rgb16, W, H, 16, NULL, 0), RT_OK);
+    FILE *fp = fopen(p16, "rb");
+    png_image img;
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    CHECK(fp && png_image_begin_read_from_stdio(&img, fp));
+    img.format = PNG_FORMAT_LINEAR_RGB;
+    uint16_t *r16 = malloc(PNG_IMAGE_SIZE(img));
+    CHECK(png_image_finish_read(&img, NULL, r16, 0, NULL));
+    /* libpng's simplified API linearises; just check the raw read works and
+     * the size is right. */
+    CHECK_EQ_INT(img.width, W);
+    fclose(fp);
+    free(r16);
+    free(rgb16);
+
+    /* A failed write (missing directory) creates nothing. */
+    char bad[256];
+    snprintf(bad, sizeof bad, "%s/missing/x.png", dir);
+    CHECK(rt_png_write(bad, rgb, W, H, 8, NULL, 0) != RT_OK);
+    CHECK(access(bad, F_OK) != 0);
+    /* A failed write never clobbers the existing file: bad parameters. */
+    struct stat before, after;
+    stat(path, &before);
+    CHECK_EQ_INT(rt_png_write(path, rgb, 0, H, 8, NULL, 0), RT_EINVAL);
+    stat(path, &after);
+    CHECK_EQ_INT(after.st_size, before.st_size);
+    /* No temporary files left behind. */
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
+    CHECK_EQ_INT(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    CHECK_EQ_INT(system(cmd), 0);
+    free(rgb);
+    CHECK_DONE();
+}
