@@ -22,15 +22,22 @@
 #define RT_BVH_SSE 1
 #endif
 
+#ifndef LEAF_MAX
 #define LEAF_MAX 8
+#endif
+#ifndef TRAV_COST
+#define TRAV_COST 1.0
+#endif
+#ifndef BINS
 #define BINS 16
+#endif
 #define STACK_MAX 256
 
 typedef struct node4 {
     float bmin[3][4];
     float bmax[3][4];
     int32_t child[4]; /* >= 0: node index; < 0: ~(start << 4 | (count - 1)) */
-    int32_t nchild;
+    int32_t nchild; /* bit mask of the child slots in use */
     int32_t pad[3];
 } node4;
 
@@ -178,7 +185,7 @@ static int build_rec(builder *B, uint32_t start, uint32_t count, int depth)
     }
     /* Leaf if splitting does not pay (traversal step ~ one sphere test). */
     double leaf_cost = box_area(&b) * count;
-    double split_cost = box_area(&b) * 1.0 + best_cost;
+    double split_cost = box_area(&b) * TRAV_COST + best_cost;
     if (depth > 48)
         best_axis = -1; /* degenerate input: fall back to median splits */
     if (best_axis < 0 || (count <= LEAF_MAX && leaf_cost <= split_cost)) {
@@ -282,7 +289,7 @@ static int collapse(collapser *C, int bid, int depth)
     }
     node4 tmp;
     memset(&tmp, 0, sizeof tmp);
-    tmp.nchild = nk;
+    tmp.nchild = (1 << nk) - 1;
     for (int k = 0; k < 4; k++) {
         if (k >= nk) {
             for (int a = 0; a < 3; a++) {
@@ -426,6 +433,12 @@ static inline float safe_inv(double d)
     return 1.0f / f;
 }
 
+/* Ordered depth-first traversal: the nearest hit child is visited next
+ * without touching the stack, the others are pushed far to near with their
+ * entry distance, and popped entries beyond the current closest hit are
+ * dropped. Boxes are tested against the planes a ray meets first and last
+ * (chosen once per ray by the direction's signs), so no min/max swap is
+ * needed per box. */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
     if (!b->n_nodes)
@@ -436,87 +449,106 @@ int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
     int32_t stack_node[STACK_MAX];
     float stack_t[STACK_MAX];
     int sp = 0;
-    stack_node[sp] = 0;
-    stack_t[sp++] = 0.0f;
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
     const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+    /* Row of the near plane per axis in node4.bmin/bmax, seen as float[6][4]. */
+    const int nx = fi[0] < 0 ? 3 : 0, ny = fi[1] < 0 ? 4 : 1, nz = fi[2] < 0 ? 5 : 2;
+    const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
     const float tmin_f = (float)tmin * 0.999f;
+    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
 #ifdef RT_BVH_SSE
     const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
     const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
     const __m128 vtmin = _mm_set1_ps(tmin_f);
 #endif
-    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
-    while (sp > 0) {
-        sp--;
-        if (stack_t[sp] > tfar_f)
-            continue;
-        int32_t code = stack_node[sp];
+    int32_t code = 0;
+    for (;;) {
         if (code < 0) {
             if (leaf_hit(b, code, ray, a, tmin, &closest, &best))
                 tfar_f = (float)closest * 1.0001f;
-            continue;
-        }
-        const node4 *n = &b->nodes[code];
-        float tn[4];
-        int mask;
+        } else {
+            const node4 *n = &b->nodes[code];
+            const float(*rows)[4] = (const float(*)[4])n->bmin; /* bmin then bmax: 6 rows */
+            float tn[4];
+            int mask;
 #ifdef RT_BVH_SSE
-        {
-            __m128 t0x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[0]), ox), ix);
-            __m128 t1x = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[0]), ox), ix);
-            __m128 t0y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[1]), oy), iy);
-            __m128 t1y = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[1]), oy), iy);
-            __m128 t0z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmin[2]), oz), iz);
-            __m128 t1z = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->bmax[2]), oz), iz);
-            __m128 vn = _mm_max_ps(_mm_max_ps(_mm_min_ps(t0x, t1x), _mm_min_ps(t0y, t1y)),
-                                   _mm_max_ps(_mm_min_ps(t0z, t1z), vtmin));
-            __m128 vf = _mm_min_ps(_mm_min_ps(_mm_max_ps(t0x, t1x), _mm_max_ps(t0y, t1y)),
-                                   _mm_min_ps(_mm_max_ps(t0z, t1z), _mm_set1_ps(tfar_f)));
-            mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf));
+            __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx]), ox), ix);
+            __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny]), oy), iy);
+            __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz]), oz), iz);
+            __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx]), ox), ix);
+            __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy]), oy), iy);
+            __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz]), oz), iz);
+            __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
+            __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
+            mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf)) & n->nchild;
             _mm_storeu_ps(tn, vn);
-        }
 #else
-        mask = 0;
-        for (int k = 0; k < 4; k++) {
-            float near = tmin_f, far = tfar_f;
-            for (int ax = 0; ax < 3; ax++) {
-                float t0 = (n->bmin[ax][k] - fo[ax]) * fi[ax];
-                float t1 = (n->bmax[ax][k] - fo[ax]) * fi[ax];
-                float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-                near = lo > near ? lo : near;
-                far = hi < far ? hi : far;
+            mask = 0;
+            for (int k = 0; k < 4; k++) {
+                float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
+                float t2 = (rows[nz][k] - fo[2]) * fi[2];
+                float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
+                float u2 = (rows[fz][k] - fo[2]) * fi[2];
+                float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
+                near = t2 > near ? t2 : near;
+                near = tmin_f > near ? tmin_f : near;
+                far = u2 < far ? u2 : far;
+                far = tfar_f < far ? tfar_f : far;
+                tn[k] = near;
+                mask |= (near <= far) << k;
             }
-            tn[k] = near;
-            if (near <= far)
-                mask |= 1 << k;
-        }
+            mask &= n->nchild;
 #endif
-        mask &= (1 << n->nchild) - 1;
-        if (!mask)
-            continue;
-        /* Push hit children far to near so the nearest is popped first. */
-        int32_t cc[4];
-        float ct[4];
-        int m = 0;
-        for (int k = 0; k < 4; k++) {
-            if (!(mask & (1 << k)))
+            if (mask) {
+                int c0 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* one child: go straight on */
+                    code = n->child[c0];
+                    continue;
+                }
+                int c1 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* two: push the far one */
+                    int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
+                    stack_node[sp] = n->child[far];
+                    stack_t[sp++] = tn[far];
+                    code = n->child[near];
+                    continue;
+                }
+                /* three or four: sort by entry distance, far first */
+                int32_t cc[4];
+                float ct[4];
+                int m = 0, k = c0;
+                for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
+                    k = __builtin_ctz(left);
+                    int j = m++;
+                    while (j > 0 && ct[j - 1] < tn[k]) {
+                        ct[j] = ct[j - 1];
+                        cc[j] = cc[j - 1];
+                        j--;
+                    }
+                    ct[j] = tn[k];
+                    cc[j] = n->child[k];
+                }
+                for (int q = 0; q < m - 1; q++) {
+                    stack_node[sp] = cc[q];
+                    stack_t[sp++] = ct[q];
+                }
+                code = cc[m - 1];
                 continue;
-            int j = m++;
-            while (j > 0 && ct[j - 1] < tn[k]) {
-                ct[j] = ct[j - 1];
-                cc[j] = cc[j - 1];
-                j--;
             }
-            ct[j] = tn[k];
-            cc[j] = n->child[k];
         }
-        if (sp + m > STACK_MAX) /* cannot happen for depth < 64; stay safe */
-            m = STACK_MAX - sp;
-        for (int k = 0; k < m; k++) {
-            stack_node[sp] = cc[k];
-            stack_t[sp++] = ct[k];
+        /* pop the next entry that can still hold a closer hit */
+        for (;;) {
+            if (sp == 0)
+                goto done;
+            sp--;
+            if (stack_t[sp] <= tfar_f)
+                break;
         }
+        code = stack_node[sp];
     }
+done:
     if (best == UINT32_MAX)
         return 0;
     hit->t = closest;

@@ -1,0 +1,80 @@
+#!/bin/bash
+# bench.sh [--full] [--quick] [--rounds N]
+# Side-by-side throughput of rt-mpi on the final scene, all measured in this
+# one run on this machine, with the ratios that matter:
+#   - our BVH vs brute force (the seeds' algorithm) vs Embree 3 (when the
+#     Embree build exists: build-embree/, made with -DRT_EMBREE=ON), 1 thread
+#   - -j 2 vs -j 1 (thread scaling)
+#   - mpirun -np 2 -j 1 vs -j 2 (the no-wasted-core check: rank 0 serves
+#     work without stealing a core from rendering)
+#   - with --full: the seed's headline job, 1200x800 at 500 spp, -j 0
+# Each configuration runs --rounds times (default 3), interleaved, and the
+# median is reported. Numbers: ray segments per second of the render phase
+# (counted exactly by rt-mpi), and the whole command's wall time.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+ROUNDS=3 FULL=0 W=400 H=266 S=16
+while [ $# -gt 0 ]; do
+    case $1 in
+    --full) FULL=1 ;;
+    --quick) W=200 H=133 S=8 ROUNDS=1 ;;
+    --rounds) ROUNDS=$2; shift ;;
+    *) echo "bench.sh: unknown option $1" >&2; exit 2 ;;
+    esac
+    shift
+done
+BIN=$ROOT/build/rt-mpi
+[ -x "$BIN" ] || BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
+EMBREE_BIN=$ROOT/build-embree/rt-mpi
+export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
+[ "$(id -u)" -ne 0 ] || export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+COMMON=(--width $W --height $H -s $S -q -o "$TMP/b.png")
+
+declare -A CMD RATE WALL
+NAMES=()
+add() { NAMES+=("$1"); CMD[$1]="$2"; }
+add "bvh -j 1" "$BIN ${COMMON[*]} -j 1"
+add "brute -j 1" "$BIN --width $W --height $H -s $(( (S + 7) / 8 )) -q -o $TMP/b.png -j 1 --accel brute"
+if [ -x "$EMBREE_BIN" ]; then
+    add "embree -j 1" "$EMBREE_BIN ${COMMON[*]} -j 1 --accel embree"
+    add "bvh (embree build) -j 1" "$EMBREE_BIN ${COMMON[*]} -j 1"
+fi
+add "bvh -j 2" "$BIN ${COMMON[*]} -j 2"
+add "mpirun -np 2 -j 1" "mpirun -np 2 --bind-to none $BIN ${COMMON[*]} -j 1"
+
+median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+for ((r = 1; r <= ROUNDS; r++)); do
+    for name in "${NAMES[@]}"; do
+        start=$(date +%s.%N)
+        ${CMD[$name]} >"$TMP/out" 2>&1 || { echo "bench.sh: '$name' failed:"; cat "$TMP/out"; exit 1; }
+        end=$(date +%s.%N)
+        rate=$(sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$TMP/out")
+        echo "$rate" >>"$TMP/rate.$r.${name// /_}"
+        echo "$rate" >>"$TMP/rate.${name// /_}"
+        awk -v a="$end" -v b="$start" 'BEGIN {printf "%.3f\n", a - b}' >>"$TMP/wall.${name// /_}"
+    done
+done
+echo "rt-mpi benchmark: final scene, ${W}x${H}, $S spp (brute force: $(( (S + 7) / 8 )) spp), $ROUNDS rounds, median"
+echo "machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+printf '%-26s %14s %12s\n' configuration "Mseg/s" "wall (s)"
+for name in "${NAMES[@]}"; do
+    RATE[$name]=$(median <"$TMP/rate.${name// /_}")
+    WALL[$name]=$(median <"$TMP/wall.${name// /_}")
+    printf '%-26s %14.3f %12.2f\n' "$name" "${RATE[$name]}" "${WALL[$name]}"
+done
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f", a / b}'; }
+echo "ratios:"
+echo "  bvh / brute force (1 thread):            $(ratio "${RATE[bvh -j 1]}" "${RATE[brute -j 1]}")"
+if [ -x "$EMBREE_BIN" ]; then
+    echo "  bvh / embree (1 thread, same build):     $(ratio "${RATE[bvh (embree build) -j 1]}" "${RATE[embree -j 1]}")"
+fi
+echo "  -j 2 / -j 1:                             $(ratio "${RATE[bvh -j 2]}" "${RATE[bvh -j 1]}")"
+echo "  mpirun -np 2 -j 1 / -j 2 (render rate):  $(ratio "${RATE[mpirun -np 2 -j 1]}" "${RATE[bvh -j 2]}")"
+echo "  mpirun -np 2 -j 1 / -j 2 (command wall): $(ratio "${WALL[bvh -j 2]}" "${WALL[mpirun -np 2 -j 1]}")"
+if [ $FULL -eq 1 ]; then
+    echo "full job: 1200x800, 500 spp, -j 0 (seed 000: 229 s wall on a 12-thread M2 Max)"
+    /usr/bin/time -v "$BIN" -s 500 -o "$TMP/full.png" -q 2>"$TMP/time" | grep -E 'wall|segments|memory|hash'
+    grep -E 'Elapsed|Maximum resident' "$TMP/time" | sed 's/^\t/  /'
+fi
