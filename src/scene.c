@@ -68,24 +68,24 @@ int rt_scene_add_sphere(rt_scene *s, rt_vec3 center, double radius, uint32_t mat
     return RT_OK;
 }
 
-static int add(rt_scene *s, rt_vec3 c, double r, rt_material m)
+int rt_scene_add(rt_scene *s, rt_vec3 c, double r, rt_material m)
 {
     uint32_t idx;
     int st = rt_scene_add_material(s, &m, &idx);
     return st ? st : rt_scene_add_sphere(s, c, r, idx);
 }
 
-static rt_material lambertian(rt_vec3 albedo)
+rt_material rt_scene_lambertian(rt_vec3 albedo)
 {
     rt_material m = {RT_MAT_LAMBERTIAN, albedo, 0.0, 1.0};
     return m;
 }
-static rt_material metal(rt_vec3 albedo, double fuzz)
+rt_material rt_scene_metal(rt_vec3 albedo, double fuzz)
 {
     rt_material m = {RT_MAT_METAL, albedo, fuzz < 1.0 ? fuzz : 1.0, 1.0};
     return m;
 }
-static rt_material dielectric(double ior)
+rt_material rt_scene_dielectric(double ior)
 {
     rt_material m = {RT_MAT_DIELECTRIC, rt_v3(1, 1, 1), 0.0, ior};
     return m;
@@ -97,7 +97,7 @@ int rt_scene_build_final(rt_scene *s, uint64_t seed, int grid)
         return RT_EINVAL;
     rt_scene_init(s);
     rt_rng rng = rt_rng_for_stream(seed, RT_STREAM_SCENE);
-    int st = add(s, rt_v3(0, -1000, 0), 1000, lambertian(rt_v3(0.5, 0.5, 0.5)));
+    int st = rt_scene_add(s, rt_v3(0, -1000, 0), 1000, rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5)));
     const rt_vec3 focal[3] = {{4, 0.2, 0}, {0, 1, 0}, {-4, 0.2, 0}};
     for (int a = -grid; a < grid && !st; a++) {
         for (int b = -grid; b < grid && !st; b++) {
@@ -113,24 +113,24 @@ int rt_scene_build_final(rt_scene *s, uint64_t seed, int grid)
                 double r = rt_rng_double(&rng) * rt_rng_double(&rng);
                 double g = rt_rng_double(&rng) * rt_rng_double(&rng);
                 double bl = rt_rng_double(&rng) * rt_rng_double(&rng);
-                st = add(s, c, 0.2, lambertian(rt_v3(r, g, bl)));
+                st = rt_scene_add(s, c, 0.2, rt_scene_lambertian(rt_v3(r, g, bl)));
             } else if (choose < 0.95) {
                 double r = rt_rng_range(&rng, 0.5, 1.0);
                 double g = rt_rng_range(&rng, 0.5, 1.0);
                 double bl = rt_rng_range(&rng, 0.5, 1.0);
                 double fuzz = rt_rng_range(&rng, 0.0, 0.5);
-                st = add(s, c, 0.2, metal(rt_v3(r, g, bl), fuzz));
+                st = rt_scene_add(s, c, 0.2, rt_scene_metal(rt_v3(r, g, bl), fuzz));
             } else {
-                st = add(s, c, 0.2, dielectric(1.5));
+                st = rt_scene_add(s, c, 0.2, rt_scene_dielectric(1.5));
             }
         }
     }
     if (!st)
-        st = add(s, rt_v3(-4, 1, 0), 1.0, lambertian(rt_v3(0.4, 0.2, 0.1)));
+        st = rt_scene_add(s, rt_v3(-4, 1, 0), 1.0, rt_scene_lambertian(rt_v3(0.4, 0.2, 0.1)));
     if (!st)
-        st = add(s, rt_v3(0, 1, 0), 1.0, dielectric(1.5));
+        st = rt_scene_add(s, rt_v3(0, 1, 0), 1.0, rt_scene_dielectric(1.5));
     if (!st)
-        st = add(s, rt_v3(4, 1, 0), 1.0, metal(rt_v3(0.7, 0.6, 0.5), 0.0));
+        st = rt_scene_add(s, rt_v3(4, 1, 0), 1.0, rt_scene_metal(rt_v3(0.7, 0.6, 0.5), 0.0));
     s->camera.lookfrom = rt_v3(13, 2, 3);
     s->camera.lookat = rt_v3(0, 0, 0);
     s->camera.vup = rt_v3(0, 1, 0);

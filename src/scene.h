@@ -54,6 +54,15 @@ void rt_scene_free(rt_scene *s);
 /* Appends a material; *index receives its index. */
 int rt_scene_add_material(rt_scene *s, const rt_material *m, uint32_t *index);
 int rt_scene_add_sphere(rt_scene *s, rt_vec3 center, double radius, uint32_t material);
+/* Appends material m and a sphere that uses it. */
+int rt_scene_add(rt_scene *s, rt_vec3 center, double radius, rt_material m);
+
+/* The book's materials. Fields a kind does not use get fixed values, so
+ * every builder and the scene-file loader produce the same bytes for the
+ * same material. Metal fuzz is clamped to at most 1 as in the book. */
+rt_material rt_scene_lambertian(rt_vec3 albedo);
+rt_material rt_scene_metal(rt_vec3 albedo, double fuzz);
+rt_material rt_scene_dielectric(double ior);
 
 /* The book 1 final scene as seed 000's renderer builds it: ground, a
  * 2grid x 2grid field of small spheres (80/15/5 % lambertian/metal/glass)
