@@ -1,0 +1,54 @@
+/* image_formats.h - every output format, chosen by the file's extension:
+ * PNG (8/16-bit, libpng), PPM (binary P6 or the book's ASCII P3, 8/16-bit),
+ * BMP (24-bit uncompressed), PFM and OpenEXR (linear float radiance,
+ * unclamped, for compositing). Every writer is atomic: the file appears
+ * complete or not at all. */
+#ifndef RT_IMAGE_FORMATS_H
+#define RT_IMAGE_FORMATS_H
+
+#include <stdint.h>
+
+#include "image_io.h"
+
+typedef enum rt_image_format {
+    RT_FORMAT_UNKNOWN = -1,
+    RT_FORMAT_PNG = 0,
+    RT_FORMAT_PPM = 1,
+    RT_FORMAT_BMP = 2,
+    RT_FORMAT_PFM = 3,
+    RT_FORMAT_EXR = 4,
+} rt_image_format;
+
+/* The format named by path's extension (case-insensitive), or
+ * RT_FORMAT_UNKNOWN. */
+rt_image_format rt_image_format_from_path(const char *path);
+/* ".png, .ppm, .bmp, .pfm, .exr" for messages. */
+const char *rt_image_format_list(void);
+
+typedef struct rt_image_write_opts {
+    int bit_depth;      /* 8 or 16 (PNG and PPM); ignored by float formats */
+    int ppm_ascii;      /* PPM: write P3 text instead of binary P6 */
+    const rt_text *text; /* PNG text chunks (other formats have no place for them) */
+    int n_text;
+} rt_image_write_opts;
+
+/* Checks that the options suit the format: RT_EUNSUPPORTED for 16 bits in
+ * a BMP, PFM or EXR, or P3 in anything but a PPM; RT_EINVAL for a bit depth
+ * other than 8 or 16. */
+int rt_image_check_opts(rt_image_format fmt, const rt_image_write_opts *o);
+
+/* Writes the render's accumulation buffer (width*height*3 fixed-point sums
+ * of `samples` samples, rows from the top) to path in the format its
+ * extension names: 8/16-bit gamma-2 for PNG, PPM and BMP, linear float for
+ * PFM and EXR. */
+int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
+                   const rt_image_write_opts *o);
+
+/* The writers, from already converted pixels (rows from the top). */
+/* rgb: uint8_t samples for maxval 255, host-order uint16_t for 65535. */
+int rt_ppm_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int maxval, int ascii);
+int rt_bmp_write(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height);
+int rt_pfm_write(const char *path, const float *rgb, uint32_t width, uint32_t height);
+int rt_exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height);
+
+#endif

@@ -1,0 +1,14 @@
+/* readers.h - test-only image readers built on the reference libraries
+ * (libpng's own decoder at 16 bits, OpenEXR's C decoder), independent of
+ * rt-mpi's writers, so tests compare what a real reader sees. */
+#ifndef RT_TEST_READERS_H
+#define RT_TEST_READERS_H
+
+#include <stdint.h>
+
+/* 16-bit RGB PNG; *rgb is malloc'd host-order samples. 0 on success. */
+int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h);
+/* Float R, G, B of a scanline EXR, rows from the top; *rgb is malloc'd. */
+int test_read_exr(const char *path, float **rgb, uint32_t *w, uint32_t *h);
+
+#endif
