@@ -8,8 +8,10 @@
 
 #include "accel.h"
 #include "fileio.h"
+#include "image_formats.h"
 #include "material.h"
 #include "render.h"
+#include "scenes.h"
 #include "status.h"
 
 /* Largest width or height accepted; PNG's own limit is 2^31 - 1, but a
@@ -31,6 +33,8 @@ void rt_cli_defaults(rt_options *o)
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
     o->diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->scene = "final";
+    o->bit_depth = 8;
 }
 
 const char *rt_cli_usage(void)
@@ -38,12 +42,19 @@ const char *rt_cli_usage(void)
     return "Usage: rt-mpi [OPTIONS]\n"
            "       mpirun -np N rt-mpi [OPTIONS]\n"
            "\n"
-           "Renders the \"Ray Tracing in One Weekend\" final scene, distributing row bands\n"
+           "Renders the \"Ray Tracing in One Weekend\" scenes, distributing row bands\n"
            "over MPI ranks and OpenMP threads. The image is byte-identical for any number\n"
            "of ranks, threads and any band size.\n"
            "\n"
            "Options:\n"
-           "  -o, --output <FILE>      Output PNG file path [default: output.png]\n"
+           "  -o, --output <FILE>      Output image; the extension picks the format: .png, .ppm,\n"
+           "                           .bmp, or .pfm/.exr (linear float) [default: output.png]\n"
+           "      --bit-depth <BITS>   8 or 16 bits per channel (.png and .ppm) [default: 8]\n"
+           "      --ppm-ascii          Write .ppm as ASCII P3, as the book does (default: binary P6)\n"
+           "      --scene <NAME>       Scene to render (see --list-scenes) [default: final]\n"
+           "      --scene-file <FILE>  Render the scene described by a JSON scene file instead\n"
+           "      --dump-scene <FILE>  Write the scene this run would render as JSON, then exit\n"
+           "      --list-scenes        List the named scenes and exit\n"
            "      --width <WIDTH>      Image width in pixels [default: 1200]\n"
            "      --height <HEIGHT>    Image height in pixels (default: width / 1.5)\n"
            "  -s, --samples <SAMPLES>  Samples per pixel [default: 500]\n"
@@ -103,7 +114,13 @@ enum {
     O_DIFFUSE,
     O_QUIET,
     O_VERSION,
-    O_HELP
+    O_HELP,
+    O_SCENE,
+    O_SCENE_FILE,
+    O_DUMP_SCENE,
+    O_LIST_SCENES,
+    O_BIT_DEPTH,
+    O_PPM_ASCII
 };
 
 static const optdef OPTS[] = {
@@ -111,7 +128,9 @@ static const optdef OPTS[] = {
     {"samples", 's', 1, O_SAMPLES}, {"grid", 0, 1, O_GRID},         {"max-depth", 0, 1, O_DEPTH},
     {"threads", 'j', 1, O_THREADS}, {"seed", 0, 1, O_SEED},         {"band", 0, 1, O_BAND},
     {"accel", 0, 1, O_ACCEL},       {"diffuse", 0, 1, O_DIFFUSE},   {"quiet", 'q', 0, O_QUIET},
-    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},
+    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"scene", 0, 1, O_SCENE},
+    {"scene-file", 0, 1, O_SCENE_FILE}, {"dump-scene", 0, 1, O_DUMP_SCENE}, {"list-scenes", 0, 0, O_LIST_SCENES},
+    {"bit-depth", 0, 1, O_BIT_DEPTH},   {"ppm-ascii", 0, 0, O_PPM_ASCII},
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -130,6 +149,7 @@ static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, u
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
 {
     rt_cli_action action = RT_CLI_RUN;
+    int scene_given = 0;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const optdef *d = NULL;
@@ -262,10 +282,48 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         case O_HELP:
             action = RT_CLI_HELP;
             break;
+        case O_SCENE: {
+            int known = 0;
+            for (unsigned k = 0; k < rt_scenes_count(); k++)
+                known |= !strcmp(val, rt_scenes_info(k)->name);
+            if (!known) {
+                snprintf(err, errlen, "%s: no scene named '%s' (see --list-scenes)", name, val);
+                return RT_CLI_ERROR;
+            }
+            o->scene = val;
+            scene_given = 1;
+            break;
+        }
+        case O_SCENE_FILE:
+        case O_DUMP_SCENE:
+            if (!*val) {
+                snprintf(err, errlen, "%s: empty file name", name);
+                return RT_CLI_ERROR;
+            }
+            *(d->id == O_SCENE_FILE ? &o->scene_file : &o->dump_scene) = val;
+            break;
+        case O_LIST_SCENES:
+            if (action == RT_CLI_RUN)
+                action = RT_CLI_LIST_SCENES;
+            break;
+        case O_BIT_DEPTH:
+            if (strcmp(val, "8") && strcmp(val, "16")) {
+                snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
+                return RT_CLI_ERROR;
+            }
+            o->bit_depth = val[0] == '8' ? 8 : 16;
+            break;
+        case O_PPM_ASCII:
+            o->ppm_ascii = 1;
+            break;
         }
     }
     if (action != RT_CLI_RUN)
         return action;
+    if (scene_given && o->scene_file) {
+        snprintf(err, errlen, "--scene and --scene-file: give one or the other");
+        return RT_CLI_ERROR;
+    }
     if (!o->height_given) {
         o->height = (uint32_t)((double)o->width / 1.5);
         if (o->height == 0) {
@@ -281,34 +339,48 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
     return RT_CLI_RUN;
 }
 
-static int has_ext(const char *path, const char *ext)
+/* The file can be created: a file name, in a writable directory. */
+static int check_path(const char *opt, const char *path, char *err, size_t errlen)
 {
-    size_t n = strlen(path), e = strlen(ext);
-    return n > e && !strcasecmp(path + n - e, ext);
+    const char *slash = strrchr(path, '/');
+    if (!*(slash ? slash + 1 : path)) {
+        snprintf(err, errlen, "%s: '%s' names a directory, not a file", opt, path);
+        return -1;
+    }
+    int st = rt_file_check_writable(path);
+    if (st == RT_EINVAL) {
+        snprintf(err, errlen, "%s: '%s' is a directory", opt, path);
+        return -1;
+    }
+    if (st) {
+        snprintf(err, errlen, "%s: cannot write '%s': directory does not exist or is not writable", opt, path);
+        return -1;
+    }
+    return 0;
 }
 
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
 {
+    if (o->dump_scene) /* the run ends after the dump: no image is written */
+        return check_path("--dump-scene", o->dump_scene, err, errlen);
     const char *slash = strrchr(o->output, '/');
     const char *base = slash ? slash + 1 : o->output;
-    if (!*base) {
-        snprintf(err, errlen, "--output: '%s' names a directory, not a file", o->output);
-        return -1;
-    }
-    if (!has_ext(o->output, ".png")) {
+    rt_image_format fmt = rt_image_format_from_path(o->output);
+    if (*base && fmt == RT_FORMAT_UNKNOWN) {
         const char *dot = strrchr(base, '.');
-        snprintf(err, errlen, "--output: unsupported file type '%s' (supported: .png)", dot ? dot : base);
+        snprintf(err, errlen, "--output: unsupported file type '%s' (supported: %s)", dot ? dot : base,
+                 rt_image_format_list());
         return -1;
     }
-    int st = rt_file_check_writable(o->output);
-    if (st == RT_EINVAL) {
-        snprintf(err, errlen, "--output: '%s' is a directory", o->output);
+    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, NULL, 0};
+    if (*base && rt_image_check_opts(fmt, &wo) != RT_OK) {
+        const char *dot = strrchr(base, '.');
+        if (o->ppm_ascii && fmt != RT_FORMAT_PPM)
+            snprintf(err, errlen, "--ppm-ascii: the output '%s' is not a .ppm file", o->output);
+        else
+            snprintf(err, errlen, "--bit-depth %d: %s files are written %s", o->bit_depth, dot,
+                     fmt == RT_FORMAT_BMP ? "with 8 bits per channel only" : "as 32-bit float");
         return -1;
     }
-    if (st) {
-        snprintf(err, errlen, "--output: cannot write '%s': directory does not exist or is not writable",
-                 o->output);
-        return -1;
-    }
-    return 0;
+    return check_path("--output", o->output, err, errlen);
 }

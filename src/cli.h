@@ -13,6 +13,7 @@ typedef enum rt_cli_action {
     RT_CLI_HELP = 1,
     RT_CLI_VERSION = 2,
     RT_CLI_ERROR = 3,
+    RT_CLI_LIST_SCENES = 4,
 } rt_cli_action;
 
 typedef struct rt_options {
@@ -28,6 +29,11 @@ typedef struct rt_options {
     int accel;   /* rt_accel_kind */
     int diffuse; /* rt_diffuse */
     int height_given;
+    const char *scene;      /* named scene (scenes.h) */
+    const char *scene_file; /* JSON scene file instead of a named scene */
+    const char *dump_scene; /* write the scene as JSON here, then exit */
+    int bit_depth;          /* 8 or 16 (PNG, PPM) */
+    int ppm_ascii;          /* PPM as P3 text */
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);
@@ -38,7 +44,8 @@ void rt_cli_defaults(rt_options *o);
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen);
 
 /* Checks the output path (directory exists and is writable, not a
- * directory, supported extension). */
+ * directory, supported extension, --bit-depth/--ppm-ascii fit the format),
+ * or with --dump-scene, that path instead. */
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
 /* Usage text for --help. */

@@ -11,14 +11,18 @@
 #include "cli.h"
 #include "farm.h"
 #include "image.h"
+#include "image_formats.h"
 #include "image_io.h"
 #include "progress.h"
 #include "render.h"
 #include "scene.h"
+#include "scene_json.h"
+#include "scenes.h"
 #include "status.h"
 
 #define EXIT_RUNTIME 1
 #define EXIT_USAGE 2
+#define EXIT_DONE -1 /* finished early (--dump-scene): exit 0 */
 
 /* Threads from the environment when -j is 0: OMP_NUM_THREADS if it is set
  * (it must then be a positive whole number), else the rank's cores. */
@@ -74,9 +78,10 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
 {
     static const char *diffuse[] = {"lambertian", "sphere", "hemisphere"};
     snprintf(buf, n, "rt-mpi --width %u --height %u --samples %u --grid %d --max-depth %u --seed %" PRIu64
-             " --diffuse %s --accel %s",
+             " --diffuse %s --accel %s %s %s",
              o->width, o->height, o->samples, o->grid, o->max_depth, o->seed, diffuse[o->diffuse],
-             rt_accel_name((rt_accel_kind)o->accel));
+             rt_accel_name((rt_accel_kind)o->accel), o->scene_file ? "--scene-file" : "--scene",
+             o->scene_file ? o->scene_file : o->scene);
 }
 
 int main(int argc, char **argv)
@@ -96,12 +101,14 @@ int main(int argc, char **argv)
     /* Every rank parsed the same argv; rank 0 alone checks the file system
      * and tells the others. */
     int code = 0;
-    if (action == RT_CLI_HELP || action == RT_CLI_VERSION) {
+    if (action == RT_CLI_HELP || action == RT_CLI_VERSION || action == RT_CLI_LIST_SCENES) {
         if (root) {
             if (action == RT_CLI_HELP)
                 fputs(rt_cli_usage(), stdout);
-            else
+            else if (action == RT_CLI_VERSION)
                 printf("rt-mpi %s\n", RT_VERSION);
+            for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++)
+                printf("%-10s %s\n", rt_scenes_info(i)->name, rt_scenes_info(i)->summary);
         }
         rt_farm_finalize(&farm);
         return 0;
@@ -125,25 +132,42 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     }
 #endif
+    /* Scene: built (or read and checked) on rank 0 before anything renders,
+     * so a bad scene file is bad input like a bad option; --dump-scene
+     * writes it and ends the run. */
+    rt_scene built;
+    rt_scene_init(&built);
+    if (!code && root) {
+        int st = opt.scene_file ? rt_scene_json_load(&built, opt.scene_file, err, sizeof err)
+                                : rt_scene_build_named(&built, opt.scene, opt.seed, opt.grid);
+        if (st && !opt.scene_file)
+            snprintf(err, sizeof err, "building the scene: %s", rt_status_str(st));
+        if (st)
+            code = st == RT_ENOMEM || !opt.scene_file ? EXIT_RUNTIME : EXIT_USAGE;
+        if (!code && opt.dump_scene) {
+            st = rt_scene_json_dump(&built, opt.dump_scene);
+            if (st)
+                snprintf(err, sizeof err, "writing %s: %s", opt.dump_scene, rt_status_str(st));
+            code = st ? EXIT_RUNTIME : EXIT_DONE;
+        }
+    }
     rt_farm_bcast_int(&farm, &code);
     if (code) {
         if (root && err[0])
             fprintf(stderr, "rt-mpi: error: %s\n", err);
+        rt_scene_free(&built);
         rt_farm_finalize(&farm);
-        return code;
+        return code == EXIT_DONE ? 0 : code;
     }
 
-    /* Scene: drawn on rank 0 from its own stream, broadcast as bytes, and
-     * rebuilt from those bytes on every rank (rank 0 included). */
+    /* The scene is broadcast as bytes and rebuilt from those bytes on every
+     * rank (rank 0 included). */
     uint8_t *blob = NULL;
     size_t blob_len = 0;
     if (root) {
-        rt_scene built;
-        int st = rt_scene_build_final(&built, opt.seed, opt.grid);
-        if (!st)
-            st = rt_scene_serialize(&built, &blob, &blob_len);
+        int st = rt_scene_serialize(&built, &blob, &blob_len);
         if (st)
-            rt_farm_fail(&farm, EXIT_RUNTIME, "building the scene: %s", rt_status_str(st));
+            rt_farm_fail(&farm, EXIT_RUNTIME, "encoding the scene: %s", rt_status_str(st));
         rt_scene_free(&built);
     }
     rt_farm_bcast_bytes(&farm, &blob, &blob_len);
@@ -195,7 +219,8 @@ int main(int argc, char **argv)
             {"rt-mpi:samples", spp_s},
             {"rt-mpi:command", cmdline},
         };
-        st = rt_png_write(opt.output, rgb, opt.width, opt.height, 8, text, 4);
+        rt_image_write_opts wo = {opt.bit_depth, opt.ppm_ascii, text, 4};
+        st = rt_image_write(opt.output, res.acc, opt.width, opt.height, opt.samples, &wo);
         if (st)
             rt_farm_fail(&farm, EXIT_RUNTIME, "writing %s: %s", opt.output, rt_status_str(st));
         double rss_min = res.ranks[0].maxrss_mb, rss_max = rss_min;
@@ -208,8 +233,14 @@ int main(int argc, char **argv)
         printf("output:        %s\n", opt.output);
         printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", opt.width, opt.height,
                opt.samples, opt.max_depth, opt.seed);
-        printf("scene:         final, grid %d, %u spheres, hash %016" PRIx64 "\n", opt.grid, scene.n_spheres,
-               scene_hash);
+        if (opt.scene_file)
+            printf("scene:         file %s, %u spheres, hash %016" PRIx64 "\n", opt.scene_file, scene.n_spheres,
+                   scene_hash);
+        else if (!strcmp(opt.scene, "final"))
+            printf("scene:         final, grid %d, %u spheres, hash %016" PRIx64 "\n", opt.grid, scene.n_spheres,
+                   scene_hash);
+        else
+            printf("scene:         %s, %u spheres, hash %016" PRIx64 "\n", opt.scene, scene.n_spheres, scene_hash);
         printf("intersector:   %s\n", rt_accel_name(opt.accel));
         printf("ranks:         %d x %d threads, %u units of %u rows\n", farm.size, threads, res.units, band);
         printf("wall time:     %.3f s\n", res.wall);
