@@ -1,9 +1,96 @@
 /* test_material.c - metal reflection angle, dielectric total internal
  * reflection, attenuation never above 1, diffuse directions above the
- * surface. */
+ * surface, and each diffuse model's distribution of directions against its
+ * law (chi-square). */
 #include "check.h"
 #include "material.h"
 #include "rng.h"
+
+/* Law of mu = cos(theta) between the scattered direction and the normal,
+ * as a CDF on [0, 1]:
+ * - lambertian (normal + random unit vector): pdf over solid angle
+ *   cos(theta) / pi, so pdf(mu) = 2 mu and CDF mu^2;
+ * - sphere (normal + random point in the unit ball, seed 002's first
+ *   model): the point q is uniform in the unit ball centred on the normal's
+ *   tip, which touches the surface at the origin. Along a direction at angle
+ *   theta that ball spans r in [0, 2 cos(theta)], so the direction's pdf is
+ *   (1 / (4 pi / 3)) * integral of r^2 dr = (2 cos(theta))^3 / 3 / (4 pi / 3)
+ *   = 2 cos^3(theta) / pi - seed 002's cos^3 law, exactly. Hence
+ *   pdf(mu) = 4 mu^3 and CDF mu^4;
+ * - hemisphere (uniform): pdf 1 / (2 pi), so mu is uniform: CDF mu. */
+static double cdf_lambertian(double mu) { return mu * mu; }
+static double cdf_sphere(double mu) { return mu * mu * mu * mu; }
+static double cdf_hemisphere(double mu) { return mu; }
+
+#define BINS 20
+/* Chi-square critical value at p = 0.001 with 19 degrees of freedom. */
+#define CHI2_CRIT 43.82
+#define PI 3.14159265358979323846
+
+/* Chi-square of BINS equal-probability bins: under the right law, cdf(mu)
+ * is uniform on [0, 1] (so every bin expects n / BINS samples, however
+ * peaked the law). */
+static double chi2_uniform(const double *u, long n, double (*cdf)(double))
+{
+    long obs[BINS] = {0};
+    for (long i = 0; i < n; i++) {
+        int b = (int)((cdf ? cdf(u[i]) : u[i]) * BINS);
+        obs[b < 0 ? 0 : b >= BINS ? BINS - 1 : b]++;
+    }
+    double x = 0, e = (double)n / BINS;
+    for (int b = 0; b < BINS; b++)
+        x += (obs[b] - e) * (obs[b] - e) / e;
+    return x;
+}
+
+/* Scatters n rays off a lambertian surface with normal nrm (tilted, so no
+ * axis is favoured); stores mu = cos(theta) and the azimuth around the
+ * normal as a fraction of a turn. */
+static void diffuse_samples(rt_diffuse model, rt_vec3 nrm, long n, double *mu, double *azimuth)
+{
+    rt_rng rng = rt_rng_for_stream(1000 + model, RT_STREAM_TEST);
+    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0.0, 1.0};
+    rt_surface s = {rt_v3(0, 0, 0), nrm, 1.0, 1};
+    rt_vec3 t1 = rt_v3_unit(rt_v3_cross(nrm, rt_v3(1, 0, 0))), t2 = rt_v3_cross(nrm, t1);
+    rt_ray in = {rt_v3_add(nrm, rt_v3(0.3, 0, 0)), rt_v3_neg(nrm)};
+    for (long i = 0; i < n; i++) {
+        rt_vec3 att;
+        rt_ray out;
+        rt_material_scatter(&m, &in, &s, model, &rng, &att, &out);
+        rt_vec3 d = rt_v3_unit(out.dir);
+        mu[i] = rt_v3_dot(d, nrm);
+        azimuth[i] = (atan2(rt_v3_dot(d, t2), rt_v3_dot(d, t1)) + PI) / (2 * PI);
+    }
+}
+
+static void check_diffuse_laws(void)
+{
+    double (*law[3])(double) = {cdf_lambertian, cdf_sphere, cdf_hemisphere};
+    static const char *names[3] = {"lambertian", "sphere", "hemisphere"};
+    enum { N = 200000 };
+    static double mu[N], azimuth[N];
+    rt_vec3 nrm = rt_v3_unit(rt_v3(0.3, 0.8, -0.52));
+    for (int model = 0; model < 3; model++) {
+        diffuse_samples((rt_diffuse)model, nrm, N, mu, azimuth);
+        double own = chi2_uniform(mu, N, law[model]);
+        printf("diffuse %-10s: chi2 of cos(theta) against its law %.1f (critical %.2f)", names[model], own,
+               CHI2_CRIT);
+        CHECK(own < CHI2_CRIT);
+        /* The test tells the three laws apart: each sample set fails the
+         * other two laws by a wide margin. */
+        for (int other = 0; other < 3; other++) {
+            if (other == model)
+                continue;
+            double x = chi2_uniform(mu, N, law[other]);
+            printf(", against %s %.0f", names[other], x);
+            CHECK(x > 100 * CHI2_CRIT);
+        }
+        /* Every model is symmetric about the normal: uniform azimuth. */
+        double xa = chi2_uniform(azimuth, N, NULL);
+        printf("; azimuth %.1f\n", xa);
+        CHECK(xa < CHI2_CRIT);
+    }
+}
 
 int main(void)
 {
@@ -65,5 +152,6 @@ int main(void)
     }
     CHECK(ok_att);
     CHECK(ok_dir);
+    check_diffuse_laws();
     CHECK_DONE();
 }
