@@ -27,3 +27,20 @@ mpirun_np() { # N args...
     shift
     timeout 120 "$MPIRUN" -np "$n" --oversubscribe --bind-to none "$@"
 }
+# A run that must be refused as bad input: exit status 2, one stderr line
+# "rt-mpi: error: ..." matching PATTERN (a grep regex), nothing on stdout,
+# and no file created in $WORK/out.
+expect_usage_error() { # label pattern command...
+    local label=$1 pattern=$2 status lines
+    shift 2
+    rm -rf "$WORK/out" && mkdir -p "$WORK/out"
+    "$@" >"$WORK/usage.out" 2>"$WORK/usage.err"
+    status=$?
+    lines=$(wc -l <"$WORK/usage.err")
+    if [ $status -eq 2 ] && [ "$lines" -eq 1 ] && grep -q "^rt-mpi: error: $pattern" "$WORK/usage.err" &&
+        [ ! -s "$WORK/usage.out" ] && [ -z "$(ls -A "$WORK/out")" ]; then
+        pass "$label -> $(cat "$WORK/usage.err")"
+    else
+        fail "$label: status $status, $lines stderr lines: $(head -c 300 "$WORK/usage.err"), out: $(ls -A "$WORK/out")"
+    fi
+}

@@ -1,0 +1,63 @@
+#!/bin/bash
+# e2e_formats.sh BIN IMGREAD [CONVERT]
+# One render written as 8-bit PNG, binary and ASCII PPM, 16-bit PPM and PNG,
+# BMP, PFM and EXR: every run prints the same image hash, and
+# formats_check.py reads each file back with an independent reader (its own
+# parsers, ImageMagick, libpng, OpenEXR) and compares the pixels with the
+# PNG's. Then the refusals: unknown extension, options that do not fit.
+BIN=$1 IMGREAD=$2 CONVERT=${3:-convert}
+source "$(dirname "$0")/lib.sh"
+ARGS=(--scene materials --width 67 --height 41 -s 8 -j 2 -q)
+D="$WORK/img"
+mkdir -p "$D"
+echo "67 41" >"$D/size.txt"
+
+hash_of() { sed -n 's/^image hash: *//p' "$1"; }
+render() { # file extra-args...
+    local f=$1
+    shift
+    if "$BIN" "${ARGS[@]}" "$@" -o "$D/$f" >"$WORK/$f.out" 2>"$WORK/$f.err"; then
+        check_eq "$f: same image hash as the PNG" "$(hash_of "$WORK/$f.out")" "$(hash_of "$WORK/ref.png.out")"
+    else
+        fail "$f: exit status $? ($(head -c 300 "$WORK/$f.err"))"
+    fi
+}
+"$BIN" "${ARGS[@]}" -o "$D/ref.png" >"$WORK/ref.png.out"
+check_eq "reference PNG run" $? 0
+render p6.ppm
+render p3.ppm --ppm-ascii
+render p6_16.ppm --bit-depth 16
+render a16.png --bit-depth 16
+render out.bmp
+render out.pfm
+render out.exr
+ls "$D" | grep -q '\.tmp\.' && fail "a temporary file was left behind" || pass "no temporary files"
+
+# ImageMagick (the real one: convert as a package installs it) decodes the
+# 8-bit files; libpng and OpenEXR decode the 16-bit PNG and the EXR.
+for f in ref:ref.png p6:p6.ppm p3:p3.ppm bmp:out.bmp; do
+    "$CONVERT" "$D/${f#*:}" -depth 8 "rgb:$D/im_${f%%:*}.rgb" || fail "ImageMagick could not read ${f#*:}"
+done
+identify -format '%m %w %h' "$D/out.bmp" >"$WORK/id.txt" 2>&1 && grep -q "^BMP3\? 67 41" "$WORK/id.txt" &&
+    pass "identify: $(cat "$WORK/id.txt")" || fail "identify out.bmp: $(cat "$WORK/id.txt")"
+"$IMGREAD" png16 "$D/a16.png" "$D/png16.raw" || fail "libpng could not read the 16-bit PNG"
+"$IMGREAD" exr "$D/out.exr" "$D/exr.raw" || fail "OpenEXR could not read the EXR"
+if python3 "$(dirname "$0")/formats_check.py" "$D" >"$WORK/check.txt" 2>&1; then
+    pass "formats_check.py: $(tail -1 "$WORK/check.txt")"
+else
+    fail "formats_check.py:"
+fi
+grep -v '^[0-9]* passed' "$WORK/check.txt" | sed 's/^/  /'
+
+O="$WORK/out"
+expect_usage_error "unknown extension" "--output: unsupported file type '.tiff' (supported: .png, .ppm, .bmp, .pfm, .exr)" \
+    "$BIN" "${ARGS[@]}" -o "$O/x.tiff"
+expect_usage_error "no extension" "--output: unsupported file type 'image'" "$BIN" "${ARGS[@]}" -o "$O/image"
+expect_usage_error "16-bit BMP" "--bit-depth 16: .bmp files are written with 8 bits per channel only" \
+    "$BIN" "${ARGS[@]}" --bit-depth 16 -o "$O/x.bmp"
+expect_usage_error "16-bit EXR" "--bit-depth 16: .exr files are written as 32-bit float" \
+    "$BIN" "${ARGS[@]}" --bit-depth 16 -o "$O/x.exr"
+expect_usage_error "ASCII PNG" "--ppm-ascii: the output '.*x.png' is not a .ppm file" \
+    "$BIN" "${ARGS[@]}" --ppm-ascii -o "$O/x.png"
+expect_usage_error "bit depth 12" "--bit-depth: '12' is not 8 or 16" "$BIN" "${ARGS[@]}" --bit-depth 12 -o "$O/x.png"
+finish
