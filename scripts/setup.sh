@@ -8,6 +8,10 @@ BUILD=${1:-$ROOT/build}
 shift || true
 
 PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
+# Scene files (cJSON), OpenEXR output; the format tests read files back with
+# ImageMagick and python3. The fuzzer (scripts/fuzz.sh) also needs clang:
+# RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev".
+PACKAGES+=(libcjson-dev libopenexr-dev imagemagick python3)
 PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 
 missing=()

@@ -1,0 +1,68 @@
+/* replay.c - regression test: every file of the fuzz corpus and every
+ * crasher found so far goes through the loader (built normally, no
+ * libFuzzer) and must keep fuzz_scene_json_check's properties. */
+#include <dirent.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene_json_check.h"
+
+static int passed, failed;
+
+static void run_file(const char *path)
+{
+    FILE *fp = fopen(path, "rb");
+    uint8_t *buf = NULL;
+    size_t len = 0, cap = 0, n;
+    if (fp) {
+        do {
+            if (len == cap) {
+                uint8_t *q = realloc(buf, cap = cap ? 2 * cap : 4096);
+                if (!q)
+                    break;
+                buf = q;
+            }
+            n = fread(buf + len, 1, cap - len, fp);
+            len += n;
+        } while (n > 0);
+    }
+    if (!fp || ferror(fp)) {
+        printf("FAIL: %s: cannot read\n", path);
+        failed++;
+    } else {
+        const char *bad = fuzz_scene_json_check(buf ? buf : (const uint8_t *)"", len);
+        if (bad) {
+            printf("FAIL: %s: %s\n", path, bad);
+            failed++;
+        } else {
+            passed++;
+        }
+    }
+    if (fp)
+        fclose(fp);
+    free(buf);
+}
+
+int main(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++) {
+        DIR *d = opendir(argv[i]);
+        if (!d) {
+            printf("FAIL: %s: cannot open the directory\n", argv[i]);
+            failed++;
+            continue;
+        }
+        struct dirent *e;
+        while ((e = readdir(d)) != NULL) {
+            if (e->d_name[0] == '.' || !strcmp(e->d_name, "README"))
+                continue;
+            char path[4096];
+            snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
+            run_file(path);
+        }
+        closedir(d);
+    }
+    printf("%d passed, %d failed\n", passed, failed);
+    return failed || !passed ? 1 : 0;
+}
