@@ -31,6 +31,8 @@ void rt_cli_defaults(rt_options *o)
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
     o->diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->checkpoint_interval = 60;
+    o->prefetch = 2;
 }
 
 const char *rt_cli_usage(void)
@@ -55,12 +57,21 @@ const char *rt_cli_usage(void)
            "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray) or embree\n"
            "                           (only in builds with -DRT_EMBREE=ON) [default: bvh]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
+           "      --checkpoint <FILE>  Checkpoint of finished rows [default: OUTPUT.ckpt]\n"
+           "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
+           "      --resume             Continue from the checkpoint (refused if it is from another job)\n"
+           "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
+           "      --no-checkpoint      Write no checkpoint\n"
+           "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
+           "      --stats <FILE.json>  Machine-readable run summary\n"
+           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
            "  -q, --quiet              No progress output on stderr\n"
            "      --version            Print version and exit\n"
            "  -h, --help               Print help\n"
            "\n"
            "Progress goes to stderr, the run summary (with the image hash) to stdout.\n"
-           "Exit status: 0 done, 1 runtime failure, 2 bad input.\n";
+           "Exit status: 0 done, 1 runtime failure, 2 bad input, 3 checkpoint refused,\n"
+           "75 interrupted by SIGTERM/SIGINT/SIGUSR1 after saving the checkpoint (rerun with --resume).\n";
 }
 
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
@@ -102,6 +113,14 @@ enum {
     O_ACCEL,
     O_DIFFUSE,
     O_QUIET,
+    O_CHECKPOINT,
+    O_NO_CHECKPOINT,
+    O_RESUME,
+    O_KEEP_CHECKPOINT,
+    O_CKPT_INTERVAL,
+    O_TRACE,
+    O_STATS,
+    O_PREFETCH,
     O_VERSION,
     O_HELP
 };
@@ -111,7 +130,10 @@ static const optdef OPTS[] = {
     {"samples", 's', 1, O_SAMPLES}, {"grid", 0, 1, O_GRID},         {"max-depth", 0, 1, O_DEPTH},
     {"threads", 'j', 1, O_THREADS}, {"seed", 0, 1, O_SEED},         {"band", 0, 1, O_BAND},
     {"accel", 0, 1, O_ACCEL},       {"diffuse", 0, 1, O_DIFFUSE},   {"quiet", 'q', 0, O_QUIET},
-    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},
+    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"checkpoint", 0, 1, O_CHECKPOINT},
+    {"no-checkpoint", 0, 0, O_NO_CHECKPOINT}, {"resume", 0, 0, O_RESUME}, {"keep-checkpoint", 0, 0, O_KEEP_CHECKPOINT},
+    {"checkpoint-interval", 0, 1, O_CKPT_INTERVAL}, {"trace", 0, 1, O_TRACE}, {"stats", 0, 1, O_STATS},
+    {"prefetch", 0, 1, O_PREFETCH},
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -255,6 +277,39 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         case O_QUIET:
             o->quiet = 1;
             break;
+        case O_CHECKPOINT:
+        case O_TRACE:
+        case O_STATS:
+            if (!*val) {
+                snprintf(err, errlen, "%s: empty file name", name);
+                return RT_CLI_ERROR;
+            }
+            if (d->id == O_CHECKPOINT)
+                o->checkpoint = val;
+            else if (d->id == O_TRACE)
+                o->trace = val;
+            else
+                o->stats = val;
+            break;
+        case O_NO_CHECKPOINT:
+            o->no_checkpoint = 1;
+            break;
+        case O_RESUME:
+            o->resume = 1;
+            break;
+        case O_KEEP_CHECKPOINT:
+            o->keep_checkpoint = 1;
+            break;
+        case O_CKPT_INTERVAL:
+            if (number(name, val, 0, 86400, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->checkpoint_interval = (uint32_t)v;
+            break;
+        case O_PREFETCH:
+            if (number(name, val, 1, 64, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->prefetch = (uint32_t)v;
+            break;
         case O_VERSION:
             if (action == RT_CLI_RUN)
                 action = RT_CLI_VERSION;
@@ -272,6 +327,10 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->width);
             return RT_CLI_ERROR;
         }
+    }
+    if (o->no_checkpoint && (o->resume || o->checkpoint)) {
+        snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
+        return RT_CLI_ERROR;
     }
     if ((uint64_t)o->width * o->height > MAX_PIXELS) {
         snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->width, o->height,

@@ -28,6 +28,11 @@ typedef struct rt_options {
     int accel;   /* rt_accel_kind */
     int diffuse; /* rt_diffuse */
     int height_given;
+    const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
+    int no_checkpoint, resume, keep_checkpoint;
+    uint32_t checkpoint_interval; /* seconds */
+    const char *trace, *stats;  /* JSON outputs, or NULL */
+    uint32_t prefetch;
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);
