@@ -65,6 +65,9 @@ const char *rt_cli_usage(void)
            "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
            "      --stats <FILE.json>  Machine-readable run summary\n"
            "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
+"      --serve-only         Rank 0 only hands out work (with several ranks)\n"
+           "      --empty-units        Benchmark the farm: hand out and gather units without\n"
+           "                           rendering them (the image is black)\n"
            "  -q, --quiet              No progress output on stderr\n"
            "      --version            Print version and exit\n"
            "  -h, --help               Print help\n"
@@ -121,6 +124,8 @@ enum {
     O_TRACE,
     O_STATS,
     O_PREFETCH,
+    O_EMPTY_UNITS,
+    O_SERVE_ONLY,
     O_VERSION,
     O_HELP
 };
@@ -133,7 +138,8 @@ static const optdef OPTS[] = {
     {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"checkpoint", 0, 1, O_CHECKPOINT},
     {"no-checkpoint", 0, 0, O_NO_CHECKPOINT}, {"resume", 0, 0, O_RESUME}, {"keep-checkpoint", 0, 0, O_KEEP_CHECKPOINT},
     {"checkpoint-interval", 0, 1, O_CKPT_INTERVAL}, {"trace", 0, 1, O_TRACE}, {"stats", 0, 1, O_STATS},
-    {"prefetch", 0, 1, O_PREFETCH},
+    {"prefetch", 0, 1, O_PREFETCH}, {"empty-units", 0, 0, O_EMPTY_UNITS},
+    {"serve-only", 0, 0, O_SERVE_ONLY},
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -304,6 +310,12 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             if (number(name, val, 0, 86400, &v, err, errlen))
                 return RT_CLI_ERROR;
             o->checkpoint_interval = (uint32_t)v;
+            break;
+        case O_SERVE_ONLY:
+            o->serve_only = 1;
+            break;
+        case O_EMPTY_UNITS:
+            o->empty_units = 1;
             break;
         case O_PREFETCH:
             if (number(name, val, 1, 64, &v, err, errlen))

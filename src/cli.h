@@ -33,6 +33,8 @@ typedef struct rt_options {
     uint32_t checkpoint_interval; /* seconds */
     const char *trace, *stats;  /* JSON outputs, or NULL */
     uint32_t prefetch;
+    int empty_units;
+    int serve_only;
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);

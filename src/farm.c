@@ -326,7 +326,8 @@ static void *local_loop(void *arg)
         }
         memset(buf, 0, n * sizeof *buf);
         double t0 = rt_now() - S->t0;
-        uint64_t segs = rt_render_rows(job->renderer, u.y0, u.y1, u.s0, u.s1, buf, job->threads, NULL, NULL);
+        uint64_t segs = job->empty_units ? 0
+                                          : rt_render_rows(job->renderer, u.y0, u.y1, u.s0, u.s1, buf, job->threads, NULL, NULL);
         if (g_stop)
             break; /* the unit may be partial: drop it */
         add_result(S, 0, &u, buf, segs, t0, rt_now() - S->t0);
@@ -567,7 +568,7 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, do
         int64_t *b = bufs[k];
         memset(b, 0, (HDR + n) * sizeof *b);
         double t0 = rt_now();
-        uint64_t segs = rt_render_rows(r, u.y0, u.y1, u.s0, u.s1, b + HDR, job->threads, poll_sends, &wp);
+        uint64_t segs = job->empty_units ? 0 : rt_render_rows(r, u.y0, u.y1, u.s0, u.s1, b + HDR, job->threads, poll_sends, &wp);
         double t1 = rt_now();
         if (g_stop)
             worker_stop();
@@ -646,10 +647,12 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
 #ifdef RT_HAVE_MPI
         else {
             pthread_t th;
-            if (pthread_create(&th, NULL, local_loop, &S) != 0)
+            int local = !job->root_serves_only;
+            if (local && pthread_create(&th, NULL, local_loop, &S) != 0)
                 rt_farm_fail(f, 1, "cannot start the render thread on rank 0");
             serve(f, &S);
-            pthread_join(th, NULL);
+            if (local)
+                pthread_join(th, NULL);
         }
 #endif
         if (g_stop)

@@ -43,6 +43,8 @@ typedef struct rt_farm_job {
     rt_sched_params sched;
     int threads;  /* OpenMP threads of this rank */
     int prefetch; /* units a worker keeps in flight */
+    int empty_units; /* benchmark of the farm itself: units are not rendered */
+    int root_serves_only; /* rank 0 serves and does not render (when size > 1) */
     rt_progress *progress;
     /* rank 0 only: */
     int64_t *acc;              /* width*height*3 sums, preloaded on resume */

@@ -189,6 +189,8 @@ int main(int argc, char **argv)
     job.sched.min_samples = 1;
     job.threads = threads;
     job.prefetch = (int)opt.prefetch;
+    job.empty_units = opt.empty_units;
+    job.root_serves_only = opt.serve_only;
     job.checkpoint = opt.checkpoint;
     job.checkpoint_interval = opt.checkpoint_interval;
     rt_ckpt_job ck = {opt.width, opt.height, opt.samples, opt.max_depth, (uint32_t)opt.diffuse,
