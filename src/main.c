@@ -136,6 +136,12 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     }
 #endif
+    if (!code && root && opt.threads > 0) {
+        int cores = rt_farm_default_threads(&farm);
+        if (opt.threads > cores * farm.local_size)
+            fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
+                    opt.threads, cores * farm.local_size);
+    }
     rt_farm_bcast_int(&farm, &code);
     if (code) {
         if (root && err[0])
