@@ -1,7 +1,8 @@
 /* checkpoint.c - checkpoint file format (little endian throughout):
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
- *   exact | u64 seed scene_hash | u32 rows_done | height bytes of row flags |
- *   for each complete row, width*3 i64 sums | u64 FNV-1a of all before. */
+ *   exact | u64 seed scene_hash | u32 rows with samples | height u32 sample
+ *   counts | for each row with samples, width*3 i64 sums | u64 FNV-1a of all
+ *   before. */
 #include "checkpoint.h"
 
 #include <errno.h>
@@ -45,7 +46,7 @@ static void put_u64(hwriter *w, uint64_t v)
     put(w, b, 8);
 }
 
-int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint8_t *row_done, const int64_t *acc)
+int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *committed, const int64_t *acc)
 {
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
@@ -54,7 +55,7 @@ int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint8_t *row_d
     hwriter w = {f.fp, RT_HASH_INIT, 0};
     uint32_t done = 0;
     for (uint32_t y = 0; y < job->height; y++)
-        done += row_done[y] != 0;
+        done += committed[y] != 0;
     put(&w, MAGIC, 8);
     put_u32(&w, RT_CKPT_VERSION);
     put_u32(&w, job->width);
@@ -66,15 +67,8 @@ int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint8_t *row_d
     put_u64(&w, job->seed);
     put_u64(&w, job->scene_hash);
     put_u32(&w, done);
-    uint8_t *flags = malloc(job->height ? job->height : 1);
-    if (!flags) {
-        rt_atomic_abort(&f);
-        return RT_ENOMEM;
-    }
     for (uint32_t y = 0; y < job->height; y++)
-        flags[y] = row_done[y] ? 1 : 0;
-    put(&w, flags, job->height);
-    free(flags);
+        put_u32(&w, committed[y]);
     size_t rowlen = (size_t)job->width * 3;
     uint8_t *buf = malloc(rowlen * 8);
     if (!buf) {
@@ -82,7 +76,7 @@ int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint8_t *row_d
         return RT_ENOMEM;
     }
     for (uint32_t y = 0; y < job->height && !w.err; y++) {
-        if (!row_done[y])
+        if (!committed[y])
             continue;
         const int64_t *row = acc + (size_t)y * rowlen;
         for (size_t i = 0; i < rowlen; i++)
@@ -106,7 +100,7 @@ static uint32_t get_u32(const uint8_t *p)
 }
 static uint64_t get_u64(const uint8_t *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
 
-int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint8_t *row_done, int64_t *acc,
+int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committed, int64_t *acc,
                  uint32_t *rows_done, char *why, size_t whylen)
 {
     why[0] = 0;
@@ -174,31 +168,37 @@ int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint8_t *row_done,
             return RT_EMISMATCH;
         }
     }
-    uint32_t done = get_u32(p + 40);
-    const uint8_t *flags = p + 44;
+    uint32_t with = get_u32(p + 40);
+    const uint8_t *counts = p + 44;
     size_t rowlen = (size_t)expect->width * 3;
-    size_t want_len = HEADER_BYTES + expect->height + (size_t)done * rowlen * 8 + 8;
-    uint32_t counted = 0;
-    if (len == want_len)
-        for (uint32_t y = 0; y < expect->height; y++)
-            counted += flags[y] != 0;
-    if (len != want_len || counted != done) {
-        snprintf(why, whylen, "inconsistent row count");
+    size_t want_len = HEADER_BYTES + (size_t)expect->height * 4 + (size_t)with * rowlen * 8 + 8;
+    uint32_t counted = 0, bad = 0;
+    if (len == want_len) {
+        for (uint32_t y = 0; y < expect->height; y++) {
+            uint32_t c = get_u32(counts + 4 * (size_t)y);
+            counted += c != 0;
+            bad += c > expect->samples;
+        }
+    }
+    if (len != want_len || counted != with || bad) {
+        snprintf(why, whylen, "inconsistent row records");
         free(data);
         return RT_EFORMAT;
     }
-    const uint8_t *q = flags + expect->height;
+    const uint8_t *q = counts + 4 * (size_t)expect->height;
+    uint32_t complete = 0;
     for (uint32_t y = 0; y < expect->height; y++) {
         int64_t *row = acc + (size_t)y * rowlen;
-        row_done[y] = flags[y] ? 1 : 0;
-        if (!flags[y]) {
+        committed[y] = get_u32(counts + 4 * (size_t)y);
+        complete += committed[y] == expect->samples;
+        if (!committed[y]) {
             memset(row, 0, rowlen * sizeof *row);
             continue;
         }
         for (size_t i = 0; i < rowlen; i++, q += 8)
             row[i] = (int64_t)get_u64(q);
     }
-    *rows_done = done;
+    *rows_done = complete;
     free(data);
     return RT_OK;
 }

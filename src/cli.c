@@ -33,6 +33,7 @@ void rt_cli_defaults(rt_options *o)
     o->diffuse = RT_DIFFUSE_LAMBERTIAN;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
+    o->passes = 1;
 }
 
 const char *rt_cli_usage(void)
@@ -65,7 +66,10 @@ const char *rt_cli_usage(void)
            "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
            "      --stats <FILE.json>  Machine-readable run summary\n"
            "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
-"      --serve-only         Rank 0 only hands out work (with several ranks)\n"
+"      --passes <K>         Progressive: render the samples in K passes over the whole\n"
+           "                           image, rewriting a preview after each [default: 1]\n"
+           "      --preview <FILE>     Preview image of --passes [default: the output]\n"
+           "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
            "      --empty-units        Benchmark the farm: hand out and gather units without\n"
            "                           rendering them (the image is black)\n"
            "  -q, --quiet              No progress output on stderr\n"
@@ -126,6 +130,8 @@ enum {
     O_PREFETCH,
     O_EMPTY_UNITS,
     O_SERVE_ONLY,
+    O_PASSES,
+    O_PREVIEW,
     O_VERSION,
     O_HELP
 };
@@ -139,7 +145,7 @@ static const optdef OPTS[] = {
     {"no-checkpoint", 0, 0, O_NO_CHECKPOINT}, {"resume", 0, 0, O_RESUME}, {"keep-checkpoint", 0, 0, O_KEEP_CHECKPOINT},
     {"checkpoint-interval", 0, 1, O_CKPT_INTERVAL}, {"trace", 0, 1, O_TRACE}, {"stats", 0, 1, O_STATS},
     {"prefetch", 0, 1, O_PREFETCH}, {"empty-units", 0, 0, O_EMPTY_UNITS},
-    {"serve-only", 0, 0, O_SERVE_ONLY},
+    {"serve-only", 0, 0, O_SERVE_ONLY}, {"passes", 0, 1, O_PASSES}, {"preview", 0, 1, O_PREVIEW},
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
@@ -311,6 +317,18 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
                 return RT_CLI_ERROR;
             o->checkpoint_interval = (uint32_t)v;
             break;
+        case O_PASSES:
+            if (number(name, val, 1, RT_MAX_SAMPLES, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->passes = (uint32_t)v;
+            break;
+        case O_PREVIEW:
+            if (!*val) {
+                snprintf(err, errlen, "%s: empty file name", name);
+                return RT_CLI_ERROR;
+            }
+            o->preview = val;
+            break;
         case O_SERVE_ONLY:
             o->serve_only = 1;
             break;
@@ -342,6 +360,10 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
     }
     if (o->no_checkpoint && (o->resume || o->checkpoint)) {
         snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
+        return RT_CLI_ERROR;
+    }
+    if (o->passes > o->samples) {
+        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->samples);
         return RT_CLI_ERROR;
     }
     if ((uint64_t)o->width * o->height > MAX_PIXELS) {

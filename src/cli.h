@@ -35,6 +35,8 @@ typedef struct rt_options {
     uint32_t prefetch;
     int empty_units;
     int serve_only;
+    uint32_t passes;
+    const char *preview; /* progressive preview file; NULL = the output */
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);

@@ -44,6 +44,11 @@ static volatile sig_atomic_t g_stop;
 
 static void on_signal(int sig) { g_stop = sig; }
 
+typedef struct pending {
+    rt_unit unit;
+    int64_t *sums;
+} pending;
+
 typedef struct shared {
     pthread_mutex_t mu;
     const rt_farm_job *job;
@@ -58,7 +63,11 @@ typedef struct shared {
     double t0;
     int serial; /* no server: the render loop reports progress itself */
     int error;
-    int rows_dirty; /* rows completed since the last checkpoint */
+    int dirty;      /* samples committed since the last checkpoint */
+    struct pending *pending; /* results that arrived before their predecessors */
+    size_t n_pending, cap_pending;
+    uint32_t passes_done;  /* progressive passes complete */
+    int pass_ready;        /* a pass completed: the server writes the preview */
     double last_ckpt;
     int checkpoints;
     int ckpt_warned;
@@ -209,16 +218,63 @@ static int take_unit(shared *S, rt_unit *u)
     return ok;
 }
 
-static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
-                       double end)
+static void commit(shared *S, const rt_unit *u, const int64_t *sums)
 {
     size_t n = (size_t)(u->y1 - u->y0) * S->W * 3;
     int64_t *dst = S->acc + (size_t)u->y0 * S->W * 3;
-    pthread_mutex_lock(&S->mu);
     for (size_t i = 0; i < n; i++)
         dst[i] += sums[i];
-    if (rt_sched_complete(&S->sched, u))
-        S->rows_dirty = 1;
+    rt_sched_commit(&S->sched, u);
+    S->dirty = 1;
+}
+
+/* Adds a finished unit to the image in commit order (see schedule.h):
+ * early arrivals wait in S->pending, which never holds more than the units
+ * in flight. */
+static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                       double end)
+{
+    pthread_mutex_lock(&S->mu);
+    if (rt_sched_can_commit(&S->sched, u)) {
+        commit(S, u, sums);
+        for (size_t i = 0; i < S->n_pending;) {
+            if (rt_sched_can_commit(&S->sched, &S->pending[i].unit)) {
+                commit(S, &S->pending[i].unit, S->pending[i].sums);
+                free(S->pending[i].sums);
+                S->pending[i] = S->pending[--S->n_pending];
+                i = 0; /* a commit may unblock an earlier entry */
+            } else {
+                i++;
+            }
+        }
+    } else {
+        size_t n = (size_t)(u->y1 - u->y0) * S->W * 3;
+        int64_t *copy = malloc(n * sizeof *copy);
+        if (S->n_pending == S->cap_pending) {
+            size_t nc = S->cap_pending ? 2 * S->cap_pending : 16;
+            pending *q = realloc(S->pending, nc * sizeof *q);
+            if (q) {
+                S->pending = q;
+                S->cap_pending = nc;
+            }
+        }
+        if (!copy || S->n_pending == S->cap_pending) {
+            free(copy);
+            S->error = RT_ENOMEM;
+        } else {
+            memcpy(copy, sums, n * sizeof *copy);
+            S->pending[S->n_pending].unit = *u;
+            S->pending[S->n_pending++].sums = copy;
+        }
+    }
+    uint32_t passes = S->sched.passes;
+    if (passes > 1 && S->passes_done < passes) {
+        uint32_t m = rt_sched_min_committed(&S->sched);
+        while (S->passes_done < passes && m >= rt_sched_pass_end(&S->sched, S->passes_done)) {
+            S->passes_done++;
+            S->pass_ready = 1;
+        }
+    }
     S->segments += segs;
     rt_rank_stats *st = &S->stats[rank];
     st->units++;
@@ -242,9 +298,54 @@ static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sum
     pthread_mutex_unlock(&S->mu);
 }
 
-/* Writes the checkpoint when due (or now with force). Complete rows never
- * change again, so only the row flags are copied under the lock; the sums
- * are read without it. */
+/* A consistent copy of the committed counts and sums, taken under the lock
+ * (other threads keep adding to S->acc). */
+static int snapshot(shared *S, uint32_t **committed, int64_t **acc)
+{
+    size_t H = S->sched.height, n = H * S->W * 3;
+    *committed = malloc(H * sizeof **committed);
+    *acc = malloc(n * sizeof **acc);
+    if (!*committed || !*acc) {
+        free(*committed);
+        free(*acc);
+        return RT_ENOMEM;
+    }
+    pthread_mutex_lock(&S->mu);
+    memcpy(*committed, S->sched.committed, H * sizeof **committed);
+    memcpy(*acc, S->acc, n * sizeof **acc);
+    S->dirty = 0;
+    pthread_mutex_unlock(&S->mu);
+    return RT_OK;
+}
+
+/* After each progressive pass: hand the caller a consistent image. */
+static void maybe_preview(shared *S)
+{
+    const rt_farm_job *job = S->job;
+    pthread_mutex_lock(&S->mu);
+    int ready = S->pass_ready;
+    uint32_t pass = S->passes_done;
+    S->pass_ready = 0;
+    int dirty = S->dirty;
+    pthread_mutex_unlock(&S->mu);
+    if (!ready)
+        return;
+    if (job->progress)
+        job->progress->pass = (int)(pass < S->sched.passes ? pass + 1 : pass);
+    if (!job->on_pass || pass >= S->sched.passes)
+        return; /* the last pass is the final image, written by the caller */
+    uint32_t *committed;
+    int64_t *acc;
+    if (snapshot(S, &committed, &acc) != RT_OK)
+        return;
+    S->dirty = dirty; /* previews do not replace checkpoints */
+    job->on_pass(job->on_pass_ctx, pass, rt_sched_pass_end(&S->sched, pass - 1), committed, acc);
+    free(committed);
+    free(acc);
+}
+
+/* Writes the checkpoint when due (or now with force), from a snapshot so
+ * that rendering goes on meanwhile. */
 static void maybe_checkpoint(shared *S, int force)
 {
     const rt_farm_job *job = S->job;
@@ -253,26 +354,23 @@ static void maybe_checkpoint(shared *S, int force)
     double now = rt_now();
     if (!force && now - S->last_ckpt < job->checkpoint_interval)
         return;
-    pthread_mutex_lock(&S->mu);
-    int dirty = S->rows_dirty;
-    uint32_t H = S->sched.height;
-    uint8_t *flags = dirty ? malloc(H) : NULL;
-    if (flags)
-        memcpy(flags, S->sched.row_done, H);
-    S->rows_dirty = 0;
-    pthread_mutex_unlock(&S->mu);
     S->last_ckpt = now;
+    pthread_mutex_lock(&S->mu);
+    int dirty = S->dirty;
+    pthread_mutex_unlock(&S->mu);
     if (!dirty)
         return;
-    if (!flags) {
-        S->rows_dirty = 1;
-        return;
+    uint32_t *committed;
+    int64_t *acc;
+    int st = snapshot(S, &committed, &acc);
+    if (!st) {
+        st = rt_ckpt_write(job->checkpoint, &job->ckpt_job, committed, acc);
+        free(committed);
+        free(acc);
     }
-    int st = rt_ckpt_write(job->checkpoint, &job->ckpt_job, flags, S->acc);
-    free(flags);
     if (st) {
         pthread_mutex_lock(&S->mu);
-        S->rows_dirty = 1;
+        S->dirty = 1;
         pthread_mutex_unlock(&S->mu);
         if (!S->ckpt_warned)
             fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
@@ -292,7 +390,7 @@ static void interrupted(const rt_farm *f, shared *S)
         fputc('\n', stderr);
     if (job->checkpoint) {
         pthread_mutex_lock(&S->mu);
-        S->rows_dirty = 1;
+        S->dirty = 1;
         pthread_mutex_unlock(&S->mu);
         maybe_checkpoint(S, 1);
         fprintf(stderr, "rt-mpi: interrupted by signal %d: checkpoint %s holds %u of %u rows; rerun with --resume\n",
@@ -334,6 +432,7 @@ static void *local_loop(void *arg)
         if (S->serial) {
             if (job->progress)
                 rt_progress_update(job->progress, S->sched.rows_done, S->segments);
+            maybe_preview(S);
             maybe_checkpoint(S, 0);
         }
     }
@@ -395,6 +494,7 @@ static void serve(const rt_farm *f, shared *S)
             rt_farm_fail(f, 1, "rendering on rank 0 failed: %s", rt_status_str(err));
         if (job->progress)
             rt_progress_update(job->progress, rows, segs);
+        maybe_preview(S);
         maybe_checkpoint(S, 0);
         if (all_done && finished == nworkers)
             break;
@@ -635,7 +735,7 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
         S.acc = job->acc;
         S.t0 = t0;
         S.last_ckpt = t0;
-        int st = rt_sched_init(&S.sched, &job->sched, job->rows_done);
+        int st = rt_sched_init(&S.sched, &job->sched, job->committed);
         S.stats = calloc((size_t)f->size, sizeof *S.stats);
         if (st || !S.stats)
             rt_farm_fail(f, 1, "cannot plan the work units: %s", rt_status_str(st ? st : RT_ENOMEM));
@@ -683,6 +783,9 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
         res->trace = S.trace;
         res->n_trace = S.n_trace;
         res->checkpoints = S.checkpoints;
+        for (size_t i = 0; i < S.n_pending; i++)
+            free(S.pending[i].sums);
+        free(S.pending);
         rt_sched_free(&S.sched);
         pthread_mutex_destroy(&S.mu);
     } else {

@@ -48,11 +48,16 @@ typedef struct rt_farm_job {
     rt_progress *progress;
     /* rank 0 only: */
     int64_t *acc;              /* width*height*3 sums, preloaded on resume */
-    const uint8_t *rows_done;  /* rows restored from a checkpoint, or NULL */
+    const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
     const char *checkpoint;    /* path, or NULL for none */
     double checkpoint_interval;
     rt_ckpt_job ckpt_job;
     int trace; /* record one event per unit */
+    /* Progressive passes: called on rank 0 after pass `pass` (1-based) of
+     * sched.passes is complete, with a consistent copy of the sums; every
+     * row then has at least `samples` samples (committed[y] of them). */
+    void (*on_pass)(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
+    void *on_pass_ctx;
 } rt_farm_job;
 
 typedef struct rt_farm_result {

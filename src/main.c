@@ -71,6 +71,43 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              rt_accel_name((rt_accel_kind)o->accel));
 }
 
+/* Tone-maps rows that may hold different sample counts (progressive
+ * previews); rows without samples stay black. */
+static void rows_to_rgb8(const int64_t *acc, const uint32_t *committed, uint32_t width, uint32_t height,
+                         uint8_t *rgb)
+{
+    size_t row = (size_t)width * 3;
+    for (uint32_t y = 0; y < height; y++) {
+        if (committed[y])
+            rt_image_to_rgb8(acc + y * row, width, committed[y], rgb + y * row);
+        else
+            memset(rgb + y * row, 0, row);
+    }
+}
+
+typedef struct preview_ctx {
+    const rt_options *opt;
+    const rt_farm *farm;
+} preview_ctx;
+
+static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
+{
+    preview_ctx *c = arg;
+    const rt_options *o = c->opt;
+    const char *path = o->preview ? o->preview : o->output;
+    uint8_t *rgb = malloc((size_t)o->width * o->height * 3);
+    if (!rgb)
+        return;
+    rows_to_rgb8(acc, committed, o->width, o->height, rgb);
+    char info[64];
+    snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->samples);
+    rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
+    int st = rt_png_write(path, rgb, o->width, o->height, 8, text, 2);
+    if (st)
+        fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
+    free(rgb);
+}
+
 int main(int argc, char **argv)
 {
     double t_start = rt_now();
@@ -193,6 +230,12 @@ int main(int argc, char **argv)
     job.sched.ranks = (uint32_t)farm.size;
     job.sched.units_per_rank = 8;
     job.sched.min_samples = 1;
+    job.sched.passes = opt.passes;
+    preview_ctx pctx = {&opt, &farm};
+    if (opt.passes > 1) {
+        job.on_pass = write_preview;
+        job.on_pass_ctx = &pctx;
+    }
     job.threads = threads;
     job.prefetch = (int)opt.prefetch;
     job.empty_units = opt.empty_units;
@@ -207,34 +250,39 @@ int main(int argc, char **argv)
     /* Rank 0 owns the framebuffer of sums; a resumed run starts from the
      * checkpoint's complete rows. */
     size_t npix = (size_t)opt.width * opt.height;
-    uint8_t *restored = NULL;
+    uint32_t *restored = NULL;
     uint32_t rows_restored = 0;
+    uint64_t samples_restored = 0; /* row-samples: sum over rows */
     if (root) {
         job.acc = calloc(npix * 3, sizeof *job.acc);
         if (!job.acc)
             rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", opt.width, opt.height);
         if (opt.resume) {
-            restored = calloc(opt.height, 1);
+            restored = calloc(opt.height, sizeof *restored);
             if (!restored)
                 rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory");
             st = rt_ckpt_read(opt.checkpoint, &ck, restored, job.acc, &rows_restored, err, sizeof err);
             if (st)
                 rt_farm_fail(&farm, EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", opt.checkpoint,
                              err[0] ? err : rt_status_str(st));
-            job.rows_done = restored;
+            job.committed = restored;
+            for (uint32_t y = 0; y < opt.height; y++)
+                samples_restored += restored[y];
         }
     }
     rt_progress progress;
     rt_progress_init(&progress, opt.height, opt.quiet || !root);
     progress.base_rows = rows_restored;
+    progress.passes = (int)opt.passes;
+    progress.pass = 1;
     job.progress = root ? &progress : NULL;
     if (root && !opt.quiet) {
         fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
                 opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene.n_spheres, farm.size,
                 farm.size > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
         if (opt.resume)
-            fprintf(stderr, "rt-mpi: resuming from %s: %u of %u rows already done\n", opt.checkpoint, rows_restored,
-                    opt.height);
+            fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", opt.checkpoint,
+                    100.0 * (double)samples_restored / ((double)opt.height * opt.samples));
     }
 
     rt_farm_result res;
@@ -262,9 +310,10 @@ int main(int argc, char **argv)
             /* Keep the finished work: a resume only has to write the image. */
             const char *saved = "";
             if (opt.checkpoint) {
-                uint8_t *all = malloc(opt.height);
+                uint32_t *all = malloc(opt.height * sizeof *all);
                 if (all) {
-                    memset(all, 1, opt.height);
+                    for (uint32_t y = 0; y < opt.height; y++)
+                        all[y] = opt.samples;
                     if (rt_ckpt_write(opt.checkpoint, &ck, all, job.acc) == RT_OK)
                         saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
                     free(all);
@@ -275,9 +324,10 @@ int main(int argc, char **argv)
         if (opt.checkpoint && !opt.keep_checkpoint)
             unlink(opt.checkpoint);
         else if (opt.checkpoint) {
-            uint8_t *all = malloc(opt.height);
+            uint32_t *all = malloc(opt.height * sizeof *all);
             if (all) {
-                memset(all, 1, opt.height);
+                for (uint32_t y = 0; y < opt.height; y++)
+                    all[y] = opt.samples;
                 st = rt_ckpt_write(opt.checkpoint, &ck, all, job.acc);
                 free(all);
                 if (st)
@@ -299,8 +349,9 @@ int main(int argc, char **argv)
                scene_hash);
         printf("intersector:   %s (%.0f KiB)\n", rt_accel_name(opt.accel), rt_accel_bytes(accel) / 1024.0);
         printf("ranks:         %d x %d threads, %u units", farm.size, threads, res.units);
-        if (rows_restored)
-            printf(", %u rows restored from %s", rows_restored, opt.checkpoint);
+        if (samples_restored)
+            printf(", %.1f%% of the samples restored from %s (%u complete rows)",
+                   100.0 * (double)samples_restored / ((double)opt.height * opt.samples), opt.checkpoint, rows_restored);
         printf("\n");
         printf("wall time:     %.3f s render, %.3f s total\n", res.wall, rt_now() - t_start);
         printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res.segments,

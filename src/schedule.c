@@ -6,87 +6,113 @@
 
 #include "status.h"
 
-static int push(rt_unit **arr, uint32_t *n, uint32_t *cap, rt_unit u)
+static int push(rt_sched *s, uint32_t *cap, rt_unit u)
 {
-    if (*n == *cap) {
+    if (s->n_units == *cap) {
         uint32_t nc = *cap ? *cap * 2 : 256;
-        rt_unit *q = realloc(*arr, (size_t)nc * sizeof *q);
+        rt_unit *q = realloc(s->units, (size_t)nc * sizeof *q);
         if (!q)
             return RT_ENOMEM;
-        *arr = q;
+        s->units = q;
         *cap = nc;
     }
-    u.id = *n;
-    (*arr)[(*n)++] = u;
+    u.id = s->n_units;
+    s->units[s->n_units++] = u;
     return RT_OK;
 }
 
-int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint8_t *done)
+uint32_t rt_sched_pass_end(const rt_sched *s, uint32_t k)
+{
+    return (uint32_t)((uint64_t)s->samples * (k + 1) / s->passes);
+}
+
+typedef struct band {
+    uint32_t y0, y1, c; /* rows and the samples they already have */
+} band;
+
+int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committed)
 {
     memset(s, 0, sizeof *s);
     if (!p->height || !p->samples || !p->ranks)
         return RT_EINVAL;
     s->height = p->height;
     s->samples = p->samples;
-    s->row_samples = calloc(p->height, sizeof *s->row_samples);
-    s->row_done = calloc(p->height, 1);
-    if (!s->row_samples || !s->row_done) {
-        rt_sched_free(s);
+    s->passes = p->passes < 1 ? 1 : p->passes > p->samples ? p->samples : p->passes;
+    s->committed = calloc(p->height, sizeof *s->committed);
+    if (!s->committed)
         return RT_ENOMEM;
-    }
     uint32_t todo = 0;
     for (uint32_t y = 0; y < p->height; y++) {
-        if (done && done[y]) {
-            s->row_done[y] = 1;
-            s->row_samples[y] = p->samples;
+        uint32_t c = committed ? committed[y] : 0;
+        s->committed[y] = c < p->samples ? c : p->samples;
+        if (s->committed[y] == p->samples)
             s->rows_done++;
-        } else {
+        else
             todo++;
-        }
     }
     uint32_t max_band = p->band ? p->band : (p->max_band ? p->max_band : 16);
-    uint32_t per_rank = p->units_per_rank ? p->units_per_rank : 8;
-    uint64_t want = (uint64_t)p->ranks * per_rank; /* units for good balance */
+    uint64_t want = (uint64_t)p->ranks * (p->units_per_rank ? p->units_per_rank : 8);
     uint32_t min_s = p->min_samples ? p->min_samples : 1;
 
-    /* Sample split: when even one-row bands are too few for the ranks. */
+    /* Sample split inside a pass: when even one-row bands are too few. */
     uint32_t splits = 1;
+    uint32_t pass_len = p->samples / s->passes;
     if (todo > 0 && (uint64_t)todo < want) {
         uint64_t k = (want + todo - 1) / todo;
-        uint64_t kmax = p->samples / min_s;
+        uint64_t kmax = pass_len / min_s;
         if (kmax < 1)
             kmax = 1;
         splits = (uint32_t)(k < kmax ? k : kmax);
     }
 
-    uint32_t cap = 0, remaining = todo;
+    /* One row partition, reused by every pass: runs of rows that have the
+     * same committed count, cut into bands of guided (or fixed) height. */
+    band *bands = NULL;
+    uint32_t nb = 0, capb = 0, remaining = todo;
     int st = RT_OK;
-    uint32_t y = 0;
-    while (y < p->height && !st) {
-        if (s->row_done[y]) {
+    for (uint32_t y = 0; y < p->height && !st;) {
+        uint32_t c = s->committed[y];
+        if (c == p->samples) {
             y++;
             continue;
         }
-        /* Guided: a share of what is left, at most max_band, at least 1. */
         uint32_t rows = max_band;
         if (!p->band) {
-            uint64_t g = (uint64_t)remaining / (2 * want / (splits ? splits : 1) + 1);
+            uint64_t g = (uint64_t)remaining / (2 * want / splits + 1);
             rows = g < 1 ? 1 : g > max_band ? max_band : (uint32_t)g;
         }
         uint32_t y1 = y;
-        while (y1 < p->height && y1 - y < rows && !s->row_done[y1])
+        while (y1 < p->height && y1 - y < rows && s->committed[y1] == c)
             y1++;
-        for (uint32_t k = 0; k < splits && !st; k++) {
-            uint32_t s0 = (uint32_t)((uint64_t)p->samples * k / splits);
-            uint32_t s1 = (uint32_t)((uint64_t)p->samples * (k + 1) / splits);
-            if (s1 > s0) {
-                rt_unit u = {0, y, y1, s0, s1};
-                st = push(&s->units, &s->n_units, &cap, u);
+        if (nb == capb) {
+            capb = capb ? 2 * capb : 256;
+            band *q = realloc(bands, capb * sizeof *q);
+            if (!q) {
+                st = RT_ENOMEM;
+                break;
             }
+            bands = q;
         }
+        bands[nb++] = (band){y, y1, c};
         remaining -= y1 - y;
         y = y1;
     }
+    uint32_t capu = 0;
+    for (uint32_t k = 0; k < s->passes && !st; k++) {
+        uint32_t p0 = k ? rt_sched_pass_end(s, k - 1) : 0, p1 = rt_sched_pass_end(s, k);
+        for (uint32_t b = 0; b < nb && !st; b++) {
+            uint32_t lo = bands[b].c > p0 ? bands[b].c : p0;
+            if (lo >= p1)
+                continue;
+            for (uint32_t j = 0; j < splits && !st; j++) {
+                uint32_t s0 = lo + (uint32_t)((uint64_t)(p1 - lo) * j / splits);
+                uint32_t s1 = lo + (uint32_t)((uint64_t)(p1 - lo) * (j + 1) / splits);
+                if (s1 > s0)
+                    st = push(s, &capu, (rt_unit){0, bands[b].y0, bands[b].y1, s0, s1});
+            }
+        }
+    }
+    free(bands);
     if (st)
         rt_sched_free(s);
     return st;
@@ -95,8 +121,7 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint8_t *done)
 void rt_sched_free(rt_sched *s)
 {
     free(s->units);
-    free(s->row_samples);
-    free(s->row_done);
+    free(s->committed);
     memset(s, 0, sizeof *s);
 }
 
@@ -110,32 +135,26 @@ int rt_sched_next(rt_sched *s, rt_unit *u)
 
 const rt_unit *rt_sched_unit(const rt_sched *s, uint32_t id) { return id < s->n_units ? &s->units[id] : NULL; }
 
-uint32_t rt_sched_complete(rt_sched *s, const rt_unit *u)
+int rt_sched_can_commit(const rt_sched *s, const rt_unit *u) { return s->committed[u->y0] == u->s0; }
+
+uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u)
 {
     uint32_t completed = 0;
     s->units_done++;
     for (uint32_t y = u->y0; y < u->y1; y++) {
-        s->row_samples[y] += u->s1 - u->s0;
-        if (!s->row_done[y] && s->row_samples[y] >= s->samples) {
-            s->row_done[y] = 1;
+        s->committed[y] = u->s1;
+        if (u->s1 == s->samples)
             completed++;
-        }
     }
     s->rows_done += completed;
     return completed;
 }
 
-int rt_sched_requeue(rt_sched *s, uint32_t id)
+uint32_t rt_sched_min_committed(const rt_sched *s)
 {
-    /* Swap the lost unit to just before `next` and step back over it. */
-    if (id >= s->n_units || s->next == 0)
-        return RT_EINVAL;
-    uint32_t pos = id; /* units keep their slot: find it */
-    if (s->units[pos].id != id)
-        return RT_EINVAL;
-    uint32_t last = --s->next;
-    rt_unit tmp = s->units[last];
-    s->units[last] = s->units[pos];
-    s->units[pos] = tmp;
-    return RT_OK;
+    uint32_t m = s->samples;
+    for (uint32_t y = 0; y < s->height; y++)
+        if (s->committed[y] < m)
+            m = s->committed[y];
+    return m;
 }

@@ -40,13 +40,16 @@ stop_and_resume() {
     [ ! -e "$out" ] && pass "$label: no partial image" || fail "$label: image written by an interrupted run"
     "$BIN" "${A[@]}" -j 2 -o "$out" --resume >"$WORK/$label.out" 2>&1
     check_eq "$label: resume exit status" $? 0
-    grep -q "rows restored" "$WORK/$label.out" && pass "$label: resume used the checkpoint" ||
+    grep -q "of the samples restored" "$WORK/$label.out" && pass "$label: resume used the checkpoint" ||
         fail "$label: resume restored nothing"
     cmp -s "$out" "$WORK/ref.png" && pass "$label: resumed image identical" || fail "$label: resumed image differs"
     [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" || fail "$label: checkpoint left"
 }
 stop_and_resume serial-term TERM 75 "$BIN" -j 2
 stop_and_resume serial-int INT 75 "$BIN" -j 1
+# Progressive passes: rows are stopped with part of their samples; the
+# resume (without passes) adds the rest.
+stop_and_resume passes-term TERM 75 "$BIN" -j 2 --passes 5
 if [ -n "$MPIRUN" ]; then
     stop_and_resume mpi-usr1 USR1 75 "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" -j 1
     # SIGTERM to mpirun: Open MPI ends the job itself (exit 1), but rank 0
@@ -112,6 +115,14 @@ if mount -t tmpfs -o size=48k tmpfs "$WORK/full" 2>/dev/null; then
 else
     echo "SKIP: full-disk case needs permission to mount a tmpfs"
 fi
+
+# Progressive previews: written during the run, each a valid PNG.
+"$BIN" --width 64 --height 40 -s 8 --passes 4 -j 2 -o "$WORK/prog.png" --preview "$WORK/prev.png" >/dev/null 2>&1
+check_eq "progressive run exit status" $? 0
+[ -s "$WORK/prev.png" ] && pass "preview written" || fail "no preview file"
+"$BIN" --width 64 --height 40 -s 8 -j 2 -o "$WORK/flat.png" >/dev/null 2>&1
+cmp -s "$WORK/prog.png" "$WORK/flat.png" && pass "progressive final = one-pass image" || fail "progressive image differs"
+cmp -s "$WORK/prev.png" "$WORK/flat.png" && fail "last preview is the final image (should be pass 3 of 4)" || pass "preview is an earlier pass"
 
 # Trace and stats are valid JSON with one event per unit.
 "$BIN" --width 64 --height 40 -s 4 -q -o "$WORK/t.png" --trace "$WORK/t.json" --stats "$WORK/s.json" >"$WORK/t.out"
