@@ -45,6 +45,12 @@ expect_error "unsupported extension" "unsupported file type '.jpg'" -o "$WORK/x.
 expect_error "output is a directory" "is a directory" -o "$WORK/adir.png"
 if [ "$(id -u)" -ne 0 ]; then
     expect_error "read-only directory" "not writable" -o "$WORK/ro/x.png"
+elif mkdir -p "$WORK/rofs" && mount -t tmpfs -o ro,size=64k tmpfs "$WORK/rofs" 2>/dev/null; then
+    # root may write into any directory: a read-only file system stops it
+    expect_error "read-only file system" "not writable" -o "$WORK/rofs/x.png"
+    umount "$WORK/rofs"
+else
+    echo "SKIP: read-only directory case (root, and no permission to mount)"
 fi
 expect_error "bad accel" "not one of" --accel magic -o "$OUT"
 OMP_NUM_THREADS=abc "$BIN" --width 32 --height 16 -s 2 -q -o "$OUT" >/dev/null 2>"$WORK/e.txt"
