@@ -8,8 +8,6 @@ BUILD=${1:-$ROOT/build}
 shift || true
 
 PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
-# tests: a real single-node Slurm, sanitizer and memcheck runs, JSON checks
-PACKAGES+=(slurm-wlm munge valgrind python3)
 PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 
 missing=()
