@@ -26,6 +26,12 @@ done
 BIN=$ROOT/build/rt-mpi
 [ -x "$BIN" ] || BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
 EMBREE_BIN=$ROOT/build-embree/rt-mpi
+# The Embree comparison build: same sources, plus --accel embree (Debian's
+# libembree-dev). Skipped, with a note, when it cannot be built.
+if [ ! -x "$EMBREE_BIN" ] && [ "${RT_BENCH_EMBREE:-1}" = 1 ]; then
+    RT_EXTRA_PACKAGES=libembree-dev "$ROOT/scripts/setup.sh" "$ROOT/build-embree" -DRT_EMBREE=ON \
+        -DBUILD_TESTING=OFF >/dev/null 2>&1 || echo "bench.sh: no Embree build (libembree-dev unavailable?)" >&2
+fi
 export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
 [ "$(id -u)" -ne 0 ] || export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 TMP=$(mktemp -d)

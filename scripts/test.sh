@@ -1,8 +1,13 @@
 #!/bin/bash
 # test.sh: from a fresh Debian 12 machine, installs what is missing, builds
-# and runs the whole test suite (unit, MPI end-to-end, ...) with ctest.
+# and runs the whole test suite: ctest (unit tests, end-to-end tests under
+# mpirun, checkpoint/resume/signals, Slurm, ...), then the sanitizer and
+# valgrind pass (scripts/sanitize.sh).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+# What the tests need beyond the build: a real single-node Slurm, valgrind,
+# python3 for JSON checks (the container test installs podman itself).
+export RT_EXTRA_PACKAGES="${RT_EXTRA_PACKAGES:-} slurm-wlm munge valgrind python3"
 "$ROOT/scripts/setup.sh" "$ROOT/build" -DBUILD_TESTING=ON >/dev/null
-cd "$ROOT/build"
-ctest --output-on-failure --timeout 600 "$@"
+(cd "$ROOT/build" && ctest --output-on-failure --timeout 600 "$@")
+"$ROOT/scripts/sanitize.sh"

@@ -33,6 +33,9 @@ void rt_cli_defaults(rt_options *o)
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
     o->diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->checkpoint_interval = 60;
+    o->prefetch = 2;
+    o->passes = 1;
     o->scene = "final";
     o->bit_depth = 8;
 }
@@ -66,12 +69,27 @@ const char *rt_cli_usage(void)
            "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray) or embree\n"
            "                           (only in builds with -DRT_EMBREE=ON) [default: bvh]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
+           "      --checkpoint <FILE>  Checkpoint of finished rows [default: OUTPUT.ckpt]\n"
+           "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
+           "      --resume             Continue from the checkpoint (refused if it is from another job)\n"
+           "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
+           "      --no-checkpoint      Write no checkpoint\n"
+           "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
+           "      --stats <FILE.json>  Machine-readable run summary\n"
+           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
+"      --passes <K>         Progressive: render the samples in K passes over the whole\n"
+           "                           image, rewriting a preview after each [default: 1]\n"
+           "      --preview <FILE>     Preview image of --passes [default: the output]\n"
+           "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
+           "      --empty-units        Benchmark the farm: hand out and gather units without\n"
+           "                           rendering them (the image is black)\n"
            "  -q, --quiet              No progress output on stderr\n"
            "      --version            Print version and exit\n"
            "  -h, --help               Print help\n"
            "\n"
            "Progress goes to stderr, the run summary (with the image hash) to stdout.\n"
-           "Exit status: 0 done, 1 runtime failure, 2 bad input.\n";
+           "Exit status: 0 done, 1 runtime failure, 2 bad input, 3 checkpoint refused,\n"
+           "75 interrupted by SIGTERM/SIGINT/SIGUSR1 after saving the checkpoint (rerun with --resume).\n";
 }
 
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
@@ -113,6 +131,18 @@ enum {
     O_ACCEL,
     O_DIFFUSE,
     O_QUIET,
+    O_CHECKPOINT,
+    O_NO_CHECKPOINT,
+    O_RESUME,
+    O_KEEP_CHECKPOINT,
+    O_CKPT_INTERVAL,
+    O_TRACE,
+    O_STATS,
+    O_PREFETCH,
+    O_EMPTY_UNITS,
+    O_SERVE_ONLY,
+    O_PASSES,
+    O_PREVIEW,
     O_VERSION,
     O_HELP,
     O_SCENE,
@@ -128,8 +158,12 @@ static const optdef OPTS[] = {
     {"samples", 's', 1, O_SAMPLES}, {"grid", 0, 1, O_GRID},         {"max-depth", 0, 1, O_DEPTH},
     {"threads", 'j', 1, O_THREADS}, {"seed", 0, 1, O_SEED},         {"band", 0, 1, O_BAND},
     {"accel", 0, 1, O_ACCEL},       {"diffuse", 0, 1, O_DIFFUSE},   {"quiet", 'q', 0, O_QUIET},
-    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"scene", 0, 1, O_SCENE},
-    {"scene-file", 0, 1, O_SCENE_FILE}, {"dump-scene", 0, 1, O_DUMP_SCENE}, {"list-scenes", 0, 0, O_LIST_SCENES},
+    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"checkpoint", 0, 1, O_CHECKPOINT},
+    {"no-checkpoint", 0, 0, O_NO_CHECKPOINT}, {"resume", 0, 0, O_RESUME}, {"keep-checkpoint", 0, 0, O_KEEP_CHECKPOINT},
+    {"checkpoint-interval", 0, 1, O_CKPT_INTERVAL}, {"trace", 0, 1, O_TRACE}, {"stats", 0, 1, O_STATS},
+    {"prefetch", 0, 1, O_PREFETCH}, {"empty-units", 0, 0, O_EMPTY_UNITS},
+    {"serve-only", 0, 0, O_SERVE_ONLY}, {"passes", 0, 1, O_PASSES}, {"preview", 0, 1, O_PREVIEW},
+    {"scene", 0, 1, O_SCENE},       {"scene-file", 0, 1, O_SCENE_FILE}, {"dump-scene", 0, 1, O_DUMP_SCENE}, {"list-scenes", 0, 0, O_LIST_SCENES},
     {"bit-depth", 0, 1, O_BIT_DEPTH},   {"ppm-ascii", 0, 0, O_PPM_ASCII},
 };
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
@@ -275,6 +309,57 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         case O_QUIET:
             o->quiet = 1;
             break;
+        case O_CHECKPOINT:
+        case O_TRACE:
+        case O_STATS:
+            if (!*val) {
+                snprintf(err, errlen, "%s: empty file name", name);
+                return RT_CLI_ERROR;
+            }
+            if (d->id == O_CHECKPOINT)
+                o->checkpoint = val;
+            else if (d->id == O_TRACE)
+                o->trace = val;
+            else
+                o->stats = val;
+            break;
+        case O_NO_CHECKPOINT:
+            o->no_checkpoint = 1;
+            break;
+        case O_RESUME:
+            o->resume = 1;
+            break;
+        case O_KEEP_CHECKPOINT:
+            o->keep_checkpoint = 1;
+            break;
+        case O_CKPT_INTERVAL:
+            if (number(name, val, 0, 86400, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->checkpoint_interval = (uint32_t)v;
+            break;
+        case O_PASSES:
+            if (number(name, val, 1, RT_MAX_SAMPLES, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->passes = (uint32_t)v;
+            break;
+        case O_PREVIEW:
+            if (!*val) {
+                snprintf(err, errlen, "%s: empty file name", name);
+                return RT_CLI_ERROR;
+            }
+            o->preview = val;
+            break;
+        case O_SERVE_ONLY:
+            o->serve_only = 1;
+            break;
+        case O_EMPTY_UNITS:
+            o->empty_units = 1;
+            break;
+        case O_PREFETCH:
+            if (number(name, val, 1, 64, &v, err, errlen))
+                return RT_CLI_ERROR;
+            o->prefetch = (uint32_t)v;
+            break;
         case O_VERSION:
             if (action == RT_CLI_RUN)
                 action = RT_CLI_VERSION;
@@ -331,6 +416,14 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             return RT_CLI_ERROR;
         }
     }
+    if (o->no_checkpoint && (o->resume || o->checkpoint)) {
+        snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
+        return RT_CLI_ERROR;
+    }
+    if (o->passes > o->samples) {
+        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->samples);
+        return RT_CLI_ERROR;
+    }
     if ((uint64_t)o->width * o->height > MAX_PIXELS) {
         snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->width, o->height,
                  (unsigned long long)MAX_PIXELS);
@@ -359,28 +452,36 @@ static int check_path(const char *opt, const char *path, char *err, size_t errle
     return 0;
 }
 
-int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
+/* An image path: supported extension, options that fit its format, and a
+ * file that can be created. */
+static int check_image_path(const char *opt, const char *path, const rt_options *o, char *err, size_t errlen)
 {
-    if (o->dump_scene) /* the run ends after the dump: no image is written */
-        return check_path("--dump-scene", o->dump_scene, err, errlen);
-    const char *slash = strrchr(o->output, '/');
-    const char *base = slash ? slash + 1 : o->output;
-    rt_image_format fmt = rt_image_format_from_path(o->output);
+    const char *slash = strrchr(path, '/');
+    const char *base = slash ? slash + 1 : path;
+    const char *dot = strrchr(base, '.');
+    rt_image_format fmt = rt_image_format_from_path(path);
+    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, NULL, 0};
     if (*base && fmt == RT_FORMAT_UNKNOWN) {
-        const char *dot = strrchr(base, '.');
-        snprintf(err, errlen, "--output: unsupported file type '%s' (supported: %s)", dot ? dot : base,
+        snprintf(err, errlen, "%s: unsupported file type '%s' (supported: %s)", opt, dot ? dot : base,
                  rt_image_format_list());
         return -1;
     }
-    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, NULL, 0};
     if (*base && rt_image_check_opts(fmt, &wo) != RT_OK) {
-        const char *dot = strrchr(base, '.');
         if (o->ppm_ascii && fmt != RT_FORMAT_PPM)
-            snprintf(err, errlen, "--ppm-ascii: the output '%s' is not a .ppm file", o->output);
+            snprintf(err, errlen, "--ppm-ascii: %s '%s' is not a .ppm file", opt, path);
         else
             snprintf(err, errlen, "--bit-depth %d: %s files are written %s", o->bit_depth, dot,
                      fmt == RT_FORMAT_BMP ? "with 8 bits per channel only" : "as 32-bit float");
         return -1;
     }
-    return check_path("--output", o->output, err, errlen);
+    return check_path(opt, path, err, errlen);
+}
+
+int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
+{
+    if (o->dump_scene) /* the run ends after the dump: no image is written */
+        return check_path("--dump-scene", o->dump_scene, err, errlen);
+    if (check_image_path("--output", o->output, o, err, errlen))
+        return -1;
+    return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;
 }

@@ -29,6 +29,15 @@ typedef struct rt_options {
     int accel;   /* rt_accel_kind */
     int diffuse; /* rt_diffuse */
     int height_given;
+    const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
+    int no_checkpoint, resume, keep_checkpoint;
+    uint32_t checkpoint_interval; /* seconds */
+    const char *trace, *stats;  /* JSON outputs, or NULL */
+    uint32_t prefetch;
+    int empty_units;
+    int serve_only;
+    uint32_t passes;
+    const char *preview; /* progressive preview file; NULL = the output */
     const char *scene;      /* named scene (scenes.h) */
     const char *scene_file; /* JSON scene file instead of a named scene */
     const char *dump_scene; /* write the scene as JSON here, then exit */
@@ -43,9 +52,9 @@ void rt_cli_defaults(rt_options *o);
  * file system access happen here. */
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen);
 
-/* Checks the output path (directory exists and is writable, not a
- * directory, supported extension, --bit-depth/--ppm-ascii fit the format),
- * or with --dump-scene, that path instead. */
+/* Checks the output path and the --preview path (directory exists and is
+ * writable, not a directory, supported extension, --bit-depth/--ppm-ascii
+ * fit the format), or with --dump-scene, that path instead. */
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
 /* Usage text for --help. */

@@ -35,21 +35,42 @@
 #include "status.h"
 
 enum { TAG_HELLO = 11, TAG_UNIT = 12, TAG_DONE = 13, TAG_RESULT = 14 };
-#define HDR 4 /* result header: unit id, segments, busy ns, rows */
+/* result header: unit id, segments, start ns, end ns (worker clock, since
+ * the common start) */
+#define HDR 4
 
-typedef struct unit {
-    uint32_t id, y0, y1, s0, s1;
-} unit;
+/* Set by the signal handler; every render loop watches it. */
+static volatile sig_atomic_t g_stop;
+
+static void on_signal(int sig) { g_stop = sig; }
+
+typedef struct pending {
+    rt_unit unit;
+    int64_t *sums;
+} pending;
 
 typedef struct shared {
     pthread_mutex_t mu;
     const rt_farm_job *job;
-    uint32_t W, H, band, samples, nunits, next, done_units;
-    uint64_t rows_done, segments;
+    const rt_farm *farm;
+    rt_sched sched;
+    uint32_t W;
+    uint64_t segments;
     int64_t *acc;
     rt_rank_stats *stats;
+    rt_trace_event *trace;
+    size_t n_trace, cap_trace;
+    double t0;
     int serial; /* no server: the render loop reports progress itself */
     int error;
+    int dirty;      /* samples committed since the last checkpoint */
+    struct pending *pending; /* results that arrived before their predecessors */
+    size_t n_pending, cap_pending;
+    uint32_t passes_done;  /* progressive passes complete */
+    int pass_ready;        /* a pass completed: the server writes the preview */
+    double last_ckpt;
+    int checkpoints;
+    int ckpt_warned;
 } shared;
 
 /* ---- set-up ------------------------------------------------------------ */
@@ -92,6 +113,23 @@ void rt_farm_finalize(rt_farm *f)
         MPI_Finalize();
 #endif
     f->mpi = 0;
+}
+
+void rt_farm_exit(const rt_farm *f, int code)
+{
+    fflush(stdout);
+    fflush(stderr);
+#ifdef RT_HAVE_MPI
+    /* Other ranks may be mid-render: a non-zero exit makes mpirun end them
+     * (MPI_Abort would add its banner to an expected, documented stop). */
+    if (f->mpi && f->size > 1)
+        _exit(code);
+    if (f->mpi)
+        MPI_Finalize();
+#else
+    (void)f;
+#endif
+    exit(code);
 }
 
 void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...)
@@ -170,67 +208,232 @@ int rt_farm_default_threads(const rt_farm *f)
     return n > 0 ? n : 1;
 }
 
-/* ---- shared queue (rank 0) -------------------------------------------- */
+/* ---- rank 0: queue, results, checkpoints --------------------------------- */
 
-static unit unit_of(const shared *S, uint32_t id)
-{
-    unit u;
-    u.id = id;
-    u.y0 = id * S->band;
-    u.y1 = u.y0 + S->band < S->H ? u.y0 + S->band : S->H;
-    u.s0 = 0;
-    u.s1 = S->samples;
-    return u;
-}
-
-static int take_unit(shared *S, unit *u)
+static int take_unit(shared *S, rt_unit *u)
 {
     pthread_mutex_lock(&S->mu);
-    int ok = S->next < S->nunits;
-    if (ok)
-        *u = unit_of(S, S->next++);
+    int ok = !g_stop && !S->error && rt_sched_next(&S->sched, u);
     pthread_mutex_unlock(&S->mu);
     return ok;
 }
 
-static void add_result(shared *S, int rank, const unit *u, const int64_t *sums, uint64_t segs, double busy)
+static void commit(shared *S, const rt_unit *u, const int64_t *sums)
 {
     size_t n = (size_t)(u->y1 - u->y0) * S->W * 3;
     int64_t *dst = S->acc + (size_t)u->y0 * S->W * 3;
-    pthread_mutex_lock(&S->mu);
     for (size_t i = 0; i < n; i++)
         dst[i] += sums[i];
-    S->done_units++;
-    S->rows_done += u->y1 - u->y0;
+    rt_sched_commit(&S->sched, u);
+    S->dirty = 1;
+}
+
+/* Adds a finished unit to the image in commit order (see schedule.h):
+ * early arrivals wait in S->pending, which never holds more than the units
+ * in flight. */
+static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                       double end)
+{
+    pthread_mutex_lock(&S->mu);
+    if (rt_sched_can_commit(&S->sched, u)) {
+        commit(S, u, sums);
+        for (size_t i = 0; i < S->n_pending;) {
+            if (rt_sched_can_commit(&S->sched, &S->pending[i].unit)) {
+                commit(S, &S->pending[i].unit, S->pending[i].sums);
+                free(S->pending[i].sums);
+                S->pending[i] = S->pending[--S->n_pending];
+                i = 0; /* a commit may unblock an earlier entry */
+            } else {
+                i++;
+            }
+        }
+    } else {
+        size_t n = (size_t)(u->y1 - u->y0) * S->W * 3;
+        int64_t *copy = malloc(n * sizeof *copy);
+        if (S->n_pending == S->cap_pending) {
+            size_t nc = S->cap_pending ? 2 * S->cap_pending : 16;
+            pending *q = realloc(S->pending, nc * sizeof *q);
+            if (q) {
+                S->pending = q;
+                S->cap_pending = nc;
+            }
+        }
+        if (!copy || S->n_pending == S->cap_pending) {
+            free(copy);
+            S->error = RT_ENOMEM;
+        } else {
+            memcpy(copy, sums, n * sizeof *copy);
+            S->pending[S->n_pending].unit = *u;
+            S->pending[S->n_pending++].sums = copy;
+        }
+    }
+    uint32_t passes = S->sched.passes;
+    if (passes > 1 && S->passes_done < passes) {
+        uint32_t m = rt_sched_min_committed(&S->sched);
+        while (S->passes_done < passes && m >= rt_sched_pass_end(&S->sched, S->passes_done)) {
+            S->passes_done++;
+            S->pass_ready = 1;
+        }
+    }
     S->segments += segs;
     rt_rank_stats *st = &S->stats[rank];
     st->units++;
-    st->rows += u->y1 - u->y0;
-    st->segments += segs;
-    st->busy += busy;
+    st->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / S->sched.samples;
+    st->segments += (double)segs;
+    st->busy += end - start;
+    if (S->job->trace) {
+        if (S->n_trace == S->cap_trace) {
+            size_t nc = S->cap_trace ? 2 * S->cap_trace : 1024;
+            rt_trace_event *q = realloc(S->trace, nc * sizeof *q);
+            if (q) {
+                S->trace = q;
+                S->cap_trace = nc;
+            }
+        }
+        if (S->n_trace < S->cap_trace) {
+            rt_trace_event ev = {rank, *u, start, end};
+            S->trace[S->n_trace++] = ev;
+        }
+    }
     pthread_mutex_unlock(&S->mu);
+}
+
+/* A consistent copy of the committed counts and sums, taken under the lock
+ * (other threads keep adding to S->acc). */
+static int snapshot(shared *S, uint32_t **committed, int64_t **acc)
+{
+    size_t H = S->sched.height, n = H * S->W * 3;
+    *committed = malloc(H * sizeof **committed);
+    *acc = malloc(n * sizeof **acc);
+    if (!*committed || !*acc) {
+        free(*committed);
+        free(*acc);
+        return RT_ENOMEM;
+    }
+    pthread_mutex_lock(&S->mu);
+    memcpy(*committed, S->sched.committed, H * sizeof **committed);
+    memcpy(*acc, S->acc, n * sizeof **acc);
+    S->dirty = 0;
+    pthread_mutex_unlock(&S->mu);
+    return RT_OK;
+}
+
+/* After each progressive pass: hand the caller a consistent image. */
+static void maybe_preview(shared *S)
+{
+    const rt_farm_job *job = S->job;
+    pthread_mutex_lock(&S->mu);
+    int ready = S->pass_ready;
+    uint32_t pass = S->passes_done;
+    S->pass_ready = 0;
+    int dirty = S->dirty;
+    pthread_mutex_unlock(&S->mu);
+    if (!ready)
+        return;
+    if (job->progress)
+        job->progress->pass = (int)(pass < S->sched.passes ? pass + 1 : pass);
+    if (!job->on_pass || pass >= S->sched.passes)
+        return; /* the last pass is the final image, written by the caller */
+    uint32_t *committed;
+    int64_t *acc;
+    if (snapshot(S, &committed, &acc) != RT_OK)
+        return;
+    S->dirty = dirty; /* previews do not replace checkpoints */
+    job->on_pass(job->on_pass_ctx, pass, rt_sched_pass_end(&S->sched, pass - 1), committed, acc);
+    free(committed);
+    free(acc);
+}
+
+/* Writes the checkpoint when due (or now with force), from a snapshot so
+ * that rendering goes on meanwhile. */
+static void maybe_checkpoint(shared *S, int force)
+{
+    const rt_farm_job *job = S->job;
+    if (!job->checkpoint)
+        return;
+    double now = rt_now();
+    if (!force && now - S->last_ckpt < job->checkpoint_interval)
+        return;
+    S->last_ckpt = now;
+    pthread_mutex_lock(&S->mu);
+    int dirty = S->dirty;
+    pthread_mutex_unlock(&S->mu);
+    if (!dirty)
+        return;
+    uint32_t *committed;
+    int64_t *acc;
+    int st = snapshot(S, &committed, &acc);
+    if (!st) {
+        st = rt_ckpt_write(job->checkpoint, &job->ckpt_job, committed, acc);
+        free(committed);
+        free(acc);
+    }
+    if (st) {
+        pthread_mutex_lock(&S->mu);
+        S->dirty = 1;
+        pthread_mutex_unlock(&S->mu);
+        if (!S->ckpt_warned)
+            fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
+                    job->checkpoint, rt_status_str(st));
+        S->ckpt_warned = 1;
+    } else {
+        S->checkpoints++;
+    }
+}
+
+/* A signal arrived: save what is complete and end the job. */
+static void interrupted(const rt_farm *f, shared *S)
+{
+    int sig = g_stop;
+    const rt_farm_job *job = S->job;
+    if (job->progress && job->progress->enabled && job->progress->tty)
+        fputc('\n', stderr);
+    if (job->checkpoint) {
+        pthread_mutex_lock(&S->mu);
+        S->dirty = 1;
+        pthread_mutex_unlock(&S->mu);
+        maybe_checkpoint(S, 1);
+        fprintf(stderr, "rt-mpi: interrupted by signal %d: checkpoint %s holds %u of %u rows; rerun with --resume\n",
+                sig, job->checkpoint, S->sched.rows_done, S->sched.height);
+    } else {
+        fprintf(stderr, "rt-mpi: interrupted by signal %d (no checkpoint file)\n", sig);
+    }
+    fflush(stderr);
+    rt_farm_exit(f, RT_EXIT_INTERRUPTED);
 }
 
 static void *local_loop(void *arg)
 {
     shared *S = arg;
     const rt_farm_job *job = S->job;
-    int64_t *buf = malloc((size_t)S->band * S->W * 3 * sizeof *buf);
-    if (!buf) {
-        pthread_mutex_lock(&S->mu);
-        S->error = RT_ENOMEM;
-        pthread_mutex_unlock(&S->mu);
-        return NULL;
-    }
-    unit u;
+    int64_t *buf = NULL;
+    size_t cap = 0;
+    rt_unit u;
     while (take_unit(S, &u)) {
         size_t n = (size_t)(u.y1 - u.y0) * S->W * 3;
+        if (n > cap) {
+            int64_t *q = realloc(buf, n * sizeof *buf);
+            if (!q) {
+                pthread_mutex_lock(&S->mu);
+                S->error = RT_ENOMEM;
+                pthread_mutex_unlock(&S->mu);
+                break;
+            }
+            buf = q;
+            cap = n;
+        }
         memset(buf, 0, n * sizeof *buf);
-        double t0 = rt_now();
-        uint64_t segs = rt_render_rows(job->renderer, u.y0, u.y1, u.s0, u.s1, buf, job->threads, NULL, NULL);
-        add_result(S, 0, &u, buf, segs, rt_now() - t0);
-        if (S->serial && job->progress) {
-            rt_progress_update(job->progress, S->rows_done, S->segments);
+        double t0 = rt_now() - S->t0;
+        uint64_t segs = job->empty_units ? 0
+                                          : rt_render_rows(job->renderer, u.y0, u.y1, u.s0, u.s1, buf, job->threads, NULL, NULL);
+        if (g_stop)
+            break; /* the unit may be partial: drop it */
+        add_result(S, 0, &u, buf, segs, t0, rt_now() - S->t0);
+        if (S->serial) {
+            if (job->progress)
+                rt_progress_update(job->progress, S->sched.rows_done, S->segments);
+            maybe_preview(S);
+            maybe_checkpoint(S, 0);
         }
     }
     free(buf);
@@ -257,16 +460,16 @@ static void nap(int *idle)
     (*idle)++;
 }
 
-static void send_unit(const rt_farm *f, int dest, const unit *u)
+static void send_unit(const rt_farm *f, int dest, const rt_unit *u)
 {
-    int32_t msg[5] = {(int32_t)u->id, (int32_t)u->y0, (int32_t)u->y1, (int32_t)u->s0, (int32_t)u->s1};
-    if (MPI_Send(msg, 5, MPI_INT32_T, dest, TAG_UNIT, MPI_COMM_WORLD) != MPI_SUCCESS)
+    uint32_t msg[5] = {u->id, u->y0, u->y1, u->s0, u->s1};
+    if (MPI_Send(msg, 5, MPI_UINT32_T, dest, TAG_UNIT, MPI_COMM_WORLD) != MPI_SUCCESS)
         rt_farm_fail(f, 1, "MPI_Send of a work unit to rank %d failed", dest);
 }
 
 static void send_done(const rt_farm *f, int dest)
 {
-    if (MPI_Send(NULL, 0, MPI_INT32_T, dest, TAG_DONE, MPI_COMM_WORLD) != MPI_SUCCESS)
+    if (MPI_Send(NULL, 0, MPI_UINT32_T, dest, TAG_DONE, MPI_COMM_WORLD) != MPI_SUCCESS)
         rt_farm_fail(f, 1, "MPI_Send to rank %d failed", dest);
 }
 
@@ -274,21 +477,25 @@ static void serve(const rt_farm *f, shared *S)
 {
     int nworkers = f->size - 1, finished = 0, idle = 0;
     int *outstanding = calloc((size_t)f->size, sizeof *outstanding);
-    size_t cap = HDR + (size_t)S->band * S->W * 3;
-    int64_t *msg = malloc(cap * sizeof *msg);
-    if (!outstanding || !msg)
+    int64_t *msg = NULL;
+    size_t cap = 0;
+    if (!outstanding)
         rt_farm_fail(f, 1, "out of memory on rank 0");
     const rt_farm_job *job = S->job;
     for (;;) {
+        if (g_stop)
+            return; /* the caller saves and ends the job */
         pthread_mutex_lock(&S->mu);
-        int all_done = S->done_units == S->nunits;
-        uint64_t rows = S->rows_done, segs = S->segments;
+        int all_done = S->sched.units_done == S->sched.n_units;
+        uint64_t rows = S->sched.rows_done, segs = S->segments;
         int err = S->error;
         pthread_mutex_unlock(&S->mu);
         if (err)
             rt_farm_fail(f, 1, "rendering on rank 0 failed: %s", rt_status_str(err));
         if (job->progress)
             rt_progress_update(job->progress, rows, segs);
+        maybe_preview(S);
+        maybe_checkpoint(S, 0);
         if (all_done && finished == nworkers)
             break;
         int flag = 0;
@@ -304,7 +511,7 @@ static void serve(const rt_farm *f, shared *S)
         if (status.MPI_TAG == TAG_HELLO) {
             int32_t want = 0;
             MPI_Recv(&want, 1, MPI_INT32_T, src, TAG_HELLO, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            unit u;
+            rt_unit u;
             for (int k = 0; k < want && take_unit(S, &u); k++) {
                 send_unit(f, src, &u);
                 outstanding[src]++;
@@ -316,18 +523,26 @@ static void serve(const rt_farm *f, shared *S)
         } else if (status.MPI_TAG == TAG_RESULT) {
             int count = 0;
             MPI_Get_count(&status, MPI_INT64_T, &count);
-            if (count < HDR || (size_t)count > cap)
+            if (count < HDR)
                 rt_farm_fail(f, 1, "malformed result from rank %d", src);
+            if ((size_t)count > cap) {
+                int64_t *q = realloc(msg, (size_t)count * sizeof *q);
+                if (!q)
+                    rt_farm_fail(f, 1, "out of memory on rank 0");
+                msg = q;
+                cap = (size_t)count;
+            }
             if (MPI_Recv(msg, count, MPI_INT64_T, src, TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE) !=
                 MPI_SUCCESS)
                 rt_farm_fail(f, 1, "receiving a result from rank %d failed", src);
-            if (msg[0] < 0 || (uint64_t)msg[0] >= S->nunits)
+            const rt_unit *u = msg[0] >= 0 && msg[0] <= UINT32_MAX ? rt_sched_unit(&S->sched, (uint32_t)msg[0]) : NULL;
+            if (!u)
                 rt_farm_fail(f, 1, "result for unknown unit %lld from rank %d", (long long)msg[0], src);
-            unit u = unit_of(S, (uint32_t)msg[0]);
-            if ((size_t)count != HDR + (size_t)(u.y1 - u.y0) * S->W * 3)
+            rt_unit done = *u;
+            if ((size_t)count != HDR + (size_t)(done.y1 - done.y0) * S->W * 3)
                 rt_farm_fail(f, 1, "result of wrong size from rank %d", src);
-            add_result(S, src, &u, msg + HDR, (uint64_t)msg[1], (double)msg[2] * 1e-9);
-            unit next;
+            add_result(S, src, &done, msg + HDR, (uint64_t)msg[1], (double)msg[2] * 1e-9, (double)msg[3] * 1e-9);
+            rt_unit next;
             if (take_unit(S, &next)) {
                 send_unit(f, src, &next);
             } else if (--outstanding[src] == 0) {
@@ -342,6 +557,20 @@ static void serve(const rt_farm *f, shared *S)
     free(msg);
 }
 
+/* A signal reached this worker (mpirun forwards it to every rank). Rank 0
+ * saves the checkpoint and its exit ends the job; a worker that left first
+ * would make mpirun report the worker instead, so it waits to be ended, and
+ * leaves by itself only if rank 0 does not (a signal sent to it alone). */
+static void worker_stop(void) __attribute__((noreturn));
+static void worker_stop(void)
+{
+    for (int i = 0; i < 100; i++) {
+        struct timespec ts = {0, 50000000L};
+        nanosleep(&ts, NULL);
+    }
+    _exit(RT_EXIT_INTERRUPTED);
+}
+
 typedef struct worker_poll {
     MPI_Request *req;
     int n;
@@ -354,15 +583,15 @@ static void poll_sends(void *ctx)
     MPI_Testall(w->n, w->req, &flag, MPI_STATUSES_IGNORE);
 }
 
-static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me)
+static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t_start)
 {
     const rt_renderer *r = job->renderer;
     const uint32_t W = r->p.width;
     int depth = job->prefetch > 0 ? job->prefetch : 2;
-    size_t cap = HDR + (size_t)job->band * W * 3;
-    int64_t *bufs[2] = {malloc(cap * sizeof(int64_t)), malloc(cap * sizeof(int64_t))};
-    unit *queue = malloc((size_t)depth * sizeof *queue);
-    if (!bufs[0] || !bufs[1] || !queue)
+    int64_t *bufs[2] = {NULL, NULL};
+    size_t caps[2] = {0, 0};
+    rt_unit *queue = malloc((size_t)depth * sizeof *queue);
+    if (!queue)
         rt_farm_fail(f, 1, "out of memory for work buffers");
     MPI_Request req[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
     worker_poll wp = {req, 2};
@@ -377,7 +606,11 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me)
     for (;;) {
         /* Take in every message that is there; wait (sleeping) only when
          * there is nothing to render. */
+        double w0 = rt_now();
+        int waited = 0;
         for (;;) {
+            if (g_stop)
+                worker_stop();
             int flag = 0;
             MPI_Status status;
             if (MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status) != MPI_SUCCESS)
@@ -388,28 +621,34 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me)
                 int sflag;
                 MPI_Testall(2, req, &sflag, MPI_STATUSES_IGNORE);
                 nap(&idle);
+                waited = 1;
                 continue;
             }
             idle = 0;
             if (status.MPI_TAG == TAG_UNIT) {
-                int32_t m[5];
-                MPI_Recv(m, 5, MPI_INT32_T, 0, TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                uint32_t m[5];
+                MPI_Recv(m, 5, MPI_UINT32_T, 0, TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
                 if (qlen == depth)
                     rt_farm_fail(f, 1, "received more units than requested");
-                unit u = {(uint32_t)m[0], (uint32_t)m[1], (uint32_t)m[2], (uint32_t)m[3], (uint32_t)m[4]};
-                if (u.y1 <= u.y0 || u.y1 > r->p.height || u.y1 - u.y0 > job->band || u.s1 <= u.s0)
+                rt_unit u = {m[0], m[1], m[2], m[3], m[4]};
+                if (u.y1 <= u.y0 || u.y1 > r->p.height || u.s1 <= u.s0 || u.s1 > r->p.samples)
                     rt_farm_fail(f, 1, "malformed work unit from rank 0");
                 queue[(qhead + qlen++) % depth] = u;
             } else if (status.MPI_TAG == TAG_DONE) {
-                MPI_Recv(NULL, 0, MPI_INT32_T, 0, TAG_DONE, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                MPI_Recv(NULL, 0, MPI_UINT32_T, 0, TAG_DONE, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
                 done = 1;
             } else {
                 rt_farm_fail(f, 1, "unexpected message tag %d from rank 0", status.MPI_TAG);
             }
         }
+        double w1 = rt_now();
+        if (waited)
+            me->wait += w1 - w0;
+        else
+            me->comm += w1 - w0;
         if (qlen == 0 && done)
             break;
-        unit u = queue[qhead];
+        rt_unit u = queue[qhead];
         qhead = (qhead + 1) % depth;
         qlen--;
         while (req[k] != MPI_REQUEST_NULL) { /* MPI_Wait would busy-poll */
@@ -418,22 +657,32 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me)
             if (!flag)
                 nap(&idle);
         }
-        int64_t *b = bufs[k];
         size_t n = (size_t)(u.y1 - u.y0) * W * 3;
+        if (HDR + n > caps[k]) {
+            int64_t *q = realloc(bufs[k], (HDR + n) * sizeof *q);
+            if (!q)
+                rt_farm_fail(f, 1, "out of memory for a %u-row unit", u.y1 - u.y0);
+            bufs[k] = q;
+            caps[k] = HDR + n;
+        }
+        int64_t *b = bufs[k];
         memset(b, 0, (HDR + n) * sizeof *b);
         double t0 = rt_now();
-        uint64_t segs = rt_render_rows(r, u.y0, u.y1, u.s0, u.s1, b + HDR, job->threads, poll_sends, &wp);
-        double busy = rt_now() - t0;
+        uint64_t segs = job->empty_units ? 0 : rt_render_rows(r, u.y0, u.y1, u.s0, u.s1, b + HDR, job->threads, poll_sends, &wp);
+        double t1 = rt_now();
+        if (g_stop)
+            worker_stop();
         b[0] = u.id;
         b[1] = (int64_t)segs;
-        b[2] = (int64_t)(busy * 1e9);
-        b[3] = u.y1 - u.y0;
+        b[2] = (int64_t)((t0 - t_start) * 1e9);
+        b[3] = (int64_t)((t1 - t_start) * 1e9);
         me->units++;
-        me->rows += u.y1 - u.y0;
-        me->segments += segs;
-        me->busy += busy;
+        me->rows += (double)(u.y1 - u.y0) * (u.s1 - u.s0) / r->p.samples;
+        me->segments += (double)segs;
+        me->busy += t1 - t0;
         if (MPI_Isend(b, (int)(HDR + n), MPI_INT64_T, 0, TAG_RESULT, MPI_COMM_WORLD, &req[k]) != MPI_SUCCESS)
             rt_farm_fail(f, 1, "sending a result to rank 0 failed");
+        me->comm += rt_now() - t1;
         k ^= 1;
     }
     /* Wait for the last results without spinning. */
@@ -450,77 +699,103 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me)
 }
 #endif /* RT_HAVE_MPI */
 
+static void install_signals(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
+}
+
+const volatile sig_atomic_t *rt_farm_stop_flag(void) { return &g_stop; }
+
 int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
 {
     memset(res, 0, sizeof *res);
     const rt_renderer *r = job->renderer;
+    install_signals();
+#ifdef RT_HAVE_MPI
+    if (f->mpi && f->size > 1)
+        MPI_Barrier(MPI_COMM_WORLD); /* common time origin for the trace */
+#endif
     double t0 = rt_now();
-    shared S;
-    memset(&S, 0, sizeof S);
-    pthread_mutex_init(&S.mu, NULL);
-    S.job = job;
-    S.W = r->p.width;
-    S.H = r->p.height;
-    S.band = job->band;
-    S.samples = r->p.samples;
-    S.nunits = (S.H + S.band - 1) / S.band;
-    res->units = S.nunits;
     rt_rank_stats mine;
     memset(&mine, 0, sizeof mine);
 
     if (f->rank == 0) {
-        S.acc = calloc((size_t)S.W * S.H * 3, sizeof *S.acc);
+        shared S;
+        memset(&S, 0, sizeof S);
+        pthread_mutex_init(&S.mu, NULL);
+        S.job = job;
+        S.farm = f;
+        S.W = r->p.width;
+        S.acc = job->acc;
+        S.t0 = t0;
+        S.last_ckpt = t0;
+        int st = rt_sched_init(&S.sched, &job->sched, job->committed);
         S.stats = calloc((size_t)f->size, sizeof *S.stats);
-        if (!S.acc || !S.stats)
-            rt_farm_fail(f, 1, "out of memory for the %u x %u framebuffer", S.W, S.H);
+        if (st || !S.stats)
+            rt_farm_fail(f, 1, "cannot plan the work units: %s", rt_status_str(st ? st : RT_ENOMEM));
+        res->units = S.sched.n_units;
         if (f->size == 1) {
             S.serial = 1;
             local_loop(&S);
-            if (S.error)
-                rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(S.error));
         }
 #ifdef RT_HAVE_MPI
         else {
             pthread_t th;
-            if (pthread_create(&th, NULL, local_loop, &S) != 0)
+            int local = !job->root_serves_only;
+            if (local && pthread_create(&th, NULL, local_loop, &S) != 0)
                 rt_farm_fail(f, 1, "cannot start the render thread on rank 0");
             serve(f, &S);
-            pthread_join(th, NULL);
+            if (local)
+                pthread_join(th, NULL);
         }
 #endif
-    }
+        if (g_stop)
+            interrupted(f, &S);
+        if (S.error)
+            rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(S.error));
+        res->wall = rt_now() - t0;
+        S.stats[0].maxrss_mb = maxrss_mb();
+        S.stats[0].wait = 0;
 #ifdef RT_HAVE_MPI
-    else {
-        work(f, job, &mine);
-    }
-#endif
-    res->wall = rt_now() - t0;
-
-    /* Totals: rank 0 already has every rank's counters from the results;
-     * peak memory comes from each rank itself. */
-    double rss = maxrss_mb();
-    if (f->rank == 0) {
-        S.stats[0].maxrss_mb = rss;
-#ifdef RT_HAVE_MPI
-        if (f->size > 1) {
-            double *all = malloc((size_t)f->size * sizeof *all);
+        if (f->mpi && f->size > 1) {
+            /* Workers report their own wait/comm time and peak memory. */
+            double *all = malloc((size_t)f->size * 3 * sizeof *all);
+            double me3[3] = {0, 0, S.stats[0].maxrss_mb};
             if (!all)
                 rt_farm_fail(f, 1, "out of memory");
-            MPI_Gather(&rss, 1, MPI_DOUBLE, all, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-            for (int i = 0; i < f->size; i++)
-                S.stats[i].maxrss_mb = all[i];
+            MPI_Gather(me3, 3, MPI_DOUBLE, all, 3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+            for (int i = 1; i < f->size; i++) {
+                S.stats[i].wait = all[3 * i];
+                S.stats[i].comm = all[3 * i + 1];
+                S.stats[i].maxrss_mb = all[3 * i + 2];
+            }
             free(all);
         }
 #endif
-        res->acc = S.acc;
         res->ranks = S.stats;
         res->segments = S.segments;
+        res->trace = S.trace;
+        res->n_trace = S.n_trace;
+        res->checkpoints = S.checkpoints;
+        for (size_t i = 0; i < S.n_pending; i++)
+            free(S.pending[i].sums);
+        free(S.pending);
+        rt_sched_free(&S.sched);
+        pthread_mutex_destroy(&S.mu);
     } else {
 #ifdef RT_HAVE_MPI
-        MPI_Gather(&rss, 1, MPI_DOUBLE, NULL, 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+        work(f, job, &mine, t0);
+        res->wall = rt_now() - t0;
+        double me3[3] = {mine.wait, mine.comm, maxrss_mb()};
+        MPI_Gather(me3, 3, MPI_DOUBLE, NULL, 3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+        res->segments = (uint64_t)mine.segments;
 #endif
-        res->segments = mine.segments;
     }
-    pthread_mutex_destroy(&S.mu);
     return RT_OK;
 }

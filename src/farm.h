@@ -1,15 +1,22 @@
-/* farm.h - the only module that talks MPI. Rank 0 serves work units (row
- * bands) on demand and gathers their fixed-point sums; every rank renders.
- * Built without MPI (RT_HAVE_MPI undefined) the same calls run a single
- * process. Like main, this layer may print errors and abort the job. */
+/* farm.h - the only module that talks MPI. Rank 0 serves work units on
+ * demand and gathers their fixed-point sums; every rank renders. Built
+ * without MPI (RT_HAVE_MPI undefined) the same calls run a single process.
+ * Like main, this layer may print errors and end the job. */
 #ifndef RT_FARM_H
 #define RT_FARM_H
 
+#include <signal.h>
 #include <stddef.h>
 #include <stdint.h>
 
+#include "checkpoint.h"
 #include "progress.h"
 #include "render.h"
+#include "schedule.h"
+
+/* Exit status of a run stopped by SIGTERM/SIGINT/SIGUSR1 after it saved
+ * its checkpoint: rerun with --resume (EX_TEMPFAIL). */
+#define RT_EXIT_INTERRUPTED 75
 
 typedef struct rt_farm {
     int rank, size;
@@ -18,43 +25,71 @@ typedef struct rt_farm {
 } rt_farm;
 
 typedef struct rt_rank_stats {
-    uint64_t units, rows, segments;
-    double busy; /* seconds spent rendering */
-    double maxrss_mb;
+    double units, rows, segments;
+    double busy;      /* seconds rendering */
+    double wait;      /* seconds with nothing to render (waiting for rank 0) */
+    double comm;      /* seconds in MPI calls and message handling */
+    double maxrss_mb; /* peak resident memory */
 } rt_rank_stats;
+
+typedef struct rt_trace_event {
+    int32_t rank;
+    rt_unit unit;
+    double start, end; /* seconds since the render started */
+} rt_trace_event;
 
 typedef struct rt_farm_job {
     const rt_renderer *renderer;
-    uint32_t band;   /* rows per unit */
-    int threads;     /* OpenMP threads of this rank */
-    int prefetch;    /* units a worker keeps in flight */
+    rt_sched_params sched;
+    int threads;  /* OpenMP threads of this rank */
+    int prefetch; /* units a worker keeps in flight */
+    int empty_units; /* benchmark of the farm itself: units are not rendered */
+    int root_serves_only; /* rank 0 serves and does not render (when size > 1) */
     rt_progress *progress;
+    /* rank 0 only: */
+    int64_t *acc;              /* width*height*3 sums, preloaded on resume */
+    const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
+    const char *checkpoint;    /* path, or NULL for none */
+    double checkpoint_interval;
+    rt_ckpt_job ckpt_job;
+    int trace; /* record one event per unit */
+    /* Progressive passes: called on rank 0 after pass `pass` (1-based) of
+     * sched.passes is complete, with a consistent copy of the sums; every
+     * row then has at least `samples` samples (committed[y] of them). */
+    void (*on_pass)(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
+    void *on_pass_ctx;
 } rt_farm_job;
 
 typedef struct rt_farm_result {
-    int64_t *acc;          /* rank 0: width*height*3 sums (caller frees) */
-    uint64_t segments;     /* total ray segments, all ranks */
-    uint32_t units;        /* number of work units */
-    rt_rank_stats *ranks;  /* rank 0: one entry per rank (caller frees) */
-    double wall;           /* seconds spent in rt_farm_render */
+    uint64_t segments;    /* all ranks */
+    uint32_t units;       /* units rendered in this run */
+    rt_rank_stats *ranks; /* rank 0: one per rank (caller frees) */
+    rt_trace_event *trace;
+    size_t n_trace;
+    double wall;          /* seconds in rt_farm_render */
+    int checkpoints;      /* checkpoint files written */
 } rt_farm_result;
 
-/* Initialises MPI (thread level FUNNELED: only the main thread calls MPI). */
 int rt_farm_init(rt_farm *f, int *argc, char ***argv);
 void rt_farm_finalize(rt_farm *f);
 /* Prints "rt-mpi: error: [rank N: ]msg" and ends every rank with code. */
 void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
+/* Ends the whole job with code, without a message. */
+void rt_farm_exit(const rt_farm *f, int code) __attribute__((noreturn));
 
-/* Rank 0's value of *v on every rank. */
 void rt_farm_bcast_int(const rt_farm *f, int *v);
-/* Rank 0's buffer on every rank; others get a malloc'd copy. */
 int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len);
 
 /* Threads for -j 0: the cores this rank may run on; when several ranks of
  * this node share the same unrestricted set, it is divided among them. */
 int rt_farm_default_threads(const rt_farm *f);
 
-/* Renders the whole image. Collective. */
+/* The flag the signal handlers set; give it to rt_renderer.stop. */
+const volatile sig_atomic_t *rt_farm_stop_flag(void);
+
+/* Renders the whole image. Collective. On SIGTERM, SIGINT or SIGUSR1, rank 0
+ * writes the checkpoint and the job ends with RT_EXIT_INTERRUPTED (this call
+ * does not return then). */
 int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
 
 #endif

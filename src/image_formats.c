@@ -307,14 +307,35 @@ int rt_exr_write(const char *path, const float *rgb, uint32_t width, uint32_t he
 
 /* ---- dispatch --------------------------------------------------------- */
 
-int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
-                   const rt_image_write_opts *o)
+/* Tone maps (or keeps linear) row by row: rows may hold different numbers
+ * of samples in a preview. */
+static void convert_rows(const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
+                         const uint32_t *row_samples, int is_float, int bit_depth, uint8_t *px, size_t elem)
+{
+    const size_t row = (size_t)width * 3;
+    for (uint32_t y = 0; y < height; y++) {
+        uint32_t n = row_samples ? row_samples[y] : samples;
+        const int64_t *src = acc + y * row;
+        void *dst = px + y * row * elem;
+        if (!n)
+            memset(dst, 0, row * elem); /* also 0.0f */
+        else if (is_float)
+            rt_image_to_linear(src, width, n, dst);
+        else if (bit_depth == 16)
+            rt_image_to_rgb16(src, width, n, dst);
+        else
+            rt_image_to_rgb8(src, width, n, dst);
+    }
+}
+
+static int write_any(const char *path, const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
+                     const uint32_t *row_samples, const rt_image_write_opts *o)
 {
     rt_image_format fmt = rt_image_format_from_path(path);
     int st = rt_image_check_opts(fmt, o);
     if (st)
         return st;
-    if (!width || !height || !samples)
+    if (!width || !height || (!row_samples && !samples))
         return RT_EINVAL;
     const size_t n = (size_t)width * height;
     const int is_float = fmt == RT_FORMAT_PFM || fmt == RT_FORMAT_EXR;
@@ -322,12 +343,7 @@ int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_
     void *px = malloc(n * 3 * elem);
     if (!px)
         return RT_ENOMEM;
-    if (is_float)
-        rt_image_to_linear(acc, n, samples, px);
-    else if (o->bit_depth == 16)
-        rt_image_to_rgb16(acc, n, samples, px);
-    else
-        rt_image_to_rgb8(acc, n, samples, px);
+    convert_rows(acc, width, height, samples, row_samples, is_float, o->bit_depth, px, elem);
     switch (fmt) {
     case RT_FORMAT_PNG:
         st = rt_png_write(path, px, width, height, o->bit_depth, o->text, o->n_text);
@@ -349,4 +365,16 @@ int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_
     }
     free(px);
     return st;
+}
+
+int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
+                   const rt_image_write_opts *o)
+{
+    return write_any(path, acc, width, height, samples, NULL, o);
+}
+
+int rt_image_write_rows(const char *path, const int64_t *acc, uint32_t width, uint32_t height,
+                        const uint32_t *row_samples, const rt_image_write_opts *o)
+{
+    return write_any(path, acc, width, height, 0, row_samples, o);
 }

@@ -44,6 +44,11 @@ int rt_image_check_opts(rt_image_format fmt, const rt_image_write_opts *o);
 int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_t height, uint32_t samples,
                    const rt_image_write_opts *o);
 
+/* As rt_image_write, but row y holds row_samples[y] samples (0: the row is
+ * black): a progressive preview. */
+int rt_image_write_rows(const char *path, const int64_t *acc, uint32_t width, uint32_t height,
+                        const uint32_t *row_samples, const rt_image_write_opts *o);
+
 /* The writers, from already converted pixels (rows from the top). */
 /* rgb: uint8_t samples for maxval 255, host-order uint16_t for 65535. */
 int rt_ppm_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int maxval, int ascii);

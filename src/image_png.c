@@ -1,6 +1,7 @@
 /* image_png.c - PNG encoding and decoding with libpng; every libpng error
  * is caught (setjmp) and turned into a status, and a failed write leaves no
  * file behind. */
+#include <errno.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdlib.h>
@@ -41,10 +42,12 @@ int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t hei
         return RT_ENOMEM;
     }
     if (setjmp(png_jmpbuf(png))) {
+        /* libpng reports a failed fwrite as a generic "Write Error". */
+        int full = errno == ENOSPC || errno == EDQUOT;
         png_destroy_write_struct(&png, &info);
         free(chunks);
         rt_atomic_abort(&f);
-        return RT_EPNG;
+        return full ? RT_ENOSPACE : RT_EPNG;
     }
     png_init_io(png, f.fp);
     png_set_IHDR(png, info, width, height, bit_depth, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,

@@ -10,10 +10,12 @@
 #include "accel.h"
 #include "cli.h"
 #include "farm.h"
+#include "fileio.h"
 #include "image.h"
 #include "image_formats.h"
 #include "image_io.h"
 #include "progress.h"
+#include "report.h"
 #include "render.h"
 #include "scene.h"
 #include "scene_json.h"
@@ -22,6 +24,7 @@
 
 #define EXIT_RUNTIME 1
 #define EXIT_USAGE 2
+#define EXIT_CHECKPOINT 3
 #define EXIT_DONE -1 /* finished early (--dump-scene): exit 0 */
 
 /* Threads from the environment when -j is 0: OMP_NUM_THREADS if it is set
@@ -59,18 +62,6 @@ static int check_memory(const rt_options *o, char *err, size_t errlen)
     return 0;
 }
 
-static uint32_t pick_band(const rt_options *o, int ranks)
-{
-    if (o->band > 0)
-        return o->band < o->height ? o->band : o->height;
-    /* Enough units for dynamic balance (>= 8 per rank), small enough to
-     * keep the tail short, at most 16 rows. */
-    uint32_t b = o->height / (uint32_t)(8 * ranks);
-    if (b > 16)
-        b = 16;
-    return b ? b : 1;
-}
-
 /* The command that reproduces this image: every option that changes a pixel,
  * none that only changes how the work is spread (-j, --band, ranks) or where
  * it goes (-o), so the file is byte-identical however it was rendered. */
@@ -84,11 +75,32 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              o->scene_file ? o->scene_file : o->scene);
 }
 
+typedef struct preview_ctx {
+    const rt_options *opt;
+    const rt_farm *farm;
+} preview_ctx;
+
+static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
+{
+    preview_ctx *c = arg;
+    const rt_options *o = c->opt;
+    const char *path = o->preview ? o->preview : o->output;
+    char info[64];
+    snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->samples);
+    rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
+    /* In the format (and bit depth) its extension names, like the output. */
+    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, 2};
+    int st = rt_image_write_rows(path, acc, o->width, o->height, committed, &wo);
+    if (st)
+        fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
+}
+
 int main(int argc, char **argv)
 {
+    double t_start = rt_now();
     rt_options opt;
     rt_cli_defaults(&opt);
-    char err[512] = "";
+    char err[1024] = "";
     rt_cli_action action = rt_cli_parse(argc, argv, &opt, err, sizeof err);
 
     rt_farm farm;
@@ -97,10 +109,6 @@ int main(int argc, char **argv)
         return EXIT_RUNTIME;
     }
     const int root = farm.rank == 0;
-
-    /* Every rank parsed the same argv; rank 0 alone checks the file system
-     * and tells the others. */
-    int code = 0;
     if (action == RT_CLI_HELP || action == RT_CLI_VERSION || action == RT_CLI_LIST_SCENES) {
         if (root) {
             if (action == RT_CLI_HELP)
@@ -113,14 +121,36 @@ int main(int argc, char **argv)
         rt_farm_finalize(&farm);
         return 0;
     }
-    int threads = 1;
-    if (action == RT_CLI_ERROR) {
-        code = EXIT_USAGE;
-    } else if (root && rt_cli_check_output(&opt, err, sizeof err) != 0) {
-        code = EXIT_USAGE;
+
+    /* Every rank parsed the same argv; rank 0 alone checks the file system
+     * and the machine, then tells the others. */
+    int code = action == RT_CLI_ERROR ? EXIT_USAGE : 0;
+    char ckpt_default[4096];
+    if (!code && !opt.no_checkpoint && !opt.checkpoint && !opt.dump_scene) {
+        snprintf(ckpt_default, sizeof ckpt_default, "%s.ckpt", opt.output);
+        opt.checkpoint = ckpt_default;
     }
+    if (!code && root && rt_cli_check_output(&opt, err, sizeof err) != 0)
+        code = EXIT_USAGE;
     if (!code && root && check_memory(&opt, err, sizeof err) != 0)
         code = EXIT_USAGE;
+    if (!code && root && opt.checkpoint && !opt.dump_scene) {
+        int st = rt_file_check_writable(opt.checkpoint);
+        if (st) {
+            snprintf(err, sizeof err, "--checkpoint: cannot write '%s': %s", opt.checkpoint,
+                     st == RT_EINVAL ? "it is a directory" : "directory does not exist or is not writable");
+            code = EXIT_USAGE;
+        } else if (opt.resume && access(opt.checkpoint, F_OK) != 0) {
+            snprintf(err, sizeof err, "--resume: no checkpoint '%s' to resume from", opt.checkpoint);
+            code = EXIT_CHECKPOINT;
+        } else if (!opt.resume && access(opt.checkpoint, F_OK) == 0) {
+            snprintf(err, sizeof err,
+                     "checkpoint '%s' exists: pass --resume to continue that render, or delete it to start over",
+                     opt.checkpoint);
+            code = EXIT_CHECKPOINT;
+        }
+    }
+    int threads = 1;
     if (!code) {
         threads = pick_threads(&farm, &opt, err, sizeof err);
         if (threads < 0)
@@ -132,6 +162,12 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     }
 #endif
+    if (!code && root && opt.threads > 0) {
+        int cores = rt_farm_default_threads(&farm);
+        if (opt.threads > cores * farm.local_size)
+            fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
+                    opt.threads, cores * farm.local_size);
+    }
     /* Scene: built (or read and checked) on rank 0 before anything renders,
      * so a bad scene file is bad input like a bad option; --dump-scene
      * writes it and ends the run. */
@@ -188,30 +224,86 @@ int main(int argc, char **argv)
     st = rt_render_init(&renderer, &scene, accel, &rp);
     if (st)
         rt_farm_fail(&farm, EXIT_USAGE, "camera: %s", rt_status_str(st));
+    renderer.stop = rt_farm_stop_flag();
 
-    uint32_t band = pick_band(&opt, farm.size);
+    rt_farm_job job;
+    memset(&job, 0, sizeof job);
+    job.renderer = &renderer;
+    job.sched.height = opt.height;
+    job.sched.samples = opt.samples;
+    job.sched.band = opt.band;
+    job.sched.max_band = 16;
+    job.sched.ranks = (uint32_t)farm.size;
+    job.sched.units_per_rank = 8;
+    job.sched.min_samples = 1;
+    job.sched.passes = opt.passes;
+    preview_ctx pctx = {&opt, &farm};
+    if (opt.passes > 1) {
+        job.on_pass = write_preview;
+        job.on_pass_ctx = &pctx;
+    }
+    job.threads = threads;
+    job.prefetch = (int)opt.prefetch;
+    job.empty_units = opt.empty_units;
+    job.root_serves_only = opt.serve_only;
+    job.checkpoint = opt.checkpoint;
+    job.checkpoint_interval = opt.checkpoint_interval;
+    rt_ckpt_job ck = {opt.width, opt.height, opt.samples, opt.max_depth, (uint32_t)opt.diffuse,
+                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash};
+    job.ckpt_job = ck;
+    job.trace = opt.trace != NULL;
+
+    /* Rank 0 owns the framebuffer of sums; a resumed run starts from the
+     * checkpoint's complete rows. */
+    size_t npix = (size_t)opt.width * opt.height;
+    uint32_t *restored = NULL;
+    uint32_t rows_restored = 0;
+    uint64_t samples_restored = 0; /* row-samples: sum over rows */
+    if (root) {
+        job.acc = calloc(npix * 3, sizeof *job.acc);
+        if (!job.acc)
+            rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", opt.width, opt.height);
+        if (opt.resume) {
+            restored = calloc(opt.height, sizeof *restored);
+            if (!restored)
+                rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory");
+            st = rt_ckpt_read(opt.checkpoint, &ck, restored, job.acc, &rows_restored, err, sizeof err);
+            if (st)
+                rt_farm_fail(&farm, EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", opt.checkpoint,
+                             err[0] ? err : rt_status_str(st));
+            job.committed = restored;
+            for (uint32_t y = 0; y < opt.height; y++)
+                samples_restored += restored[y];
+        }
+    }
     rt_progress progress;
     rt_progress_init(&progress, opt.height, opt.quiet || !root);
-    if (root && !opt.quiet)
-        fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s, %u-row bands\n",
+    progress.base_rows = rows_restored;
+    progress.passes = (int)opt.passes;
+    progress.pass = 1;
+    job.progress = root ? &progress : NULL;
+    if (root && !opt.quiet) {
+        fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
                 opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene.n_spheres, farm.size,
-                farm.size > 1 ? "s" : "", threads, threads > 1 ? "s" : "", band);
-    rt_farm_job job = {&renderer, band, threads, 2, root ? &progress : NULL};
+                farm.size > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
+        if (opt.resume)
+            fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", opt.checkpoint,
+                    100.0 * (double)samples_restored / ((double)opt.height * opt.samples));
+    }
+
     rt_farm_result res;
     rt_farm_render(&farm, &job, &res);
 
     if (root) {
         rt_progress_finish(&progress, res.segments);
-        size_t npix = (size_t)opt.width * opt.height;
         uint8_t *rgb = malloc(npix * 3);
         if (!rgb)
             rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the output image");
-        rt_image_to_rgb8(res.acc, npix, opt.samples, rgb);
+        rt_image_to_rgb8(job.acc, npix, opt.samples, rgb);
         uint64_t hash = rt_image_hash(rgb, npix * 3);
-        char seed_s[32], spp_s[32];
+        char seed_s[32], spp_s[32], cmdline[512];
         snprintf(seed_s, sizeof seed_s, "%" PRIu64, opt.seed);
         snprintf(spp_s, sizeof spp_s, "%u", opt.samples);
-        char cmdline[512];
         repro_command(&opt, cmdline, sizeof cmdline);
         rt_text text[] = {
             {"Software", "rt-mpi " RT_VERSION},
@@ -220,9 +312,36 @@ int main(int argc, char **argv)
             {"rt-mpi:command", cmdline},
         };
         rt_image_write_opts wo = {opt.bit_depth, opt.ppm_ascii, text, 4};
-        st = rt_image_write(opt.output, res.acc, opt.width, opt.height, opt.samples, &wo);
-        if (st)
-            rt_farm_fail(&farm, EXIT_RUNTIME, "writing %s: %s", opt.output, rt_status_str(st));
+        st = rt_image_write(opt.output, job.acc, opt.width, opt.height, opt.samples, &wo);
+        if (st) {
+            /* Keep the finished work: a resume only has to write the image. */
+            const char *saved = "";
+            if (opt.checkpoint) {
+                uint32_t *all = malloc(opt.height * sizeof *all);
+                if (all) {
+                    for (uint32_t y = 0; y < opt.height; y++)
+                        all[y] = opt.samples;
+                    if (rt_ckpt_write(opt.checkpoint, &ck, all, job.acc) == RT_OK)
+                        saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
+                    free(all);
+                }
+            }
+            rt_farm_fail(&farm, EXIT_RUNTIME, "writing %s: %s%s", opt.output, rt_status_str(st), saved);
+        }
+        if (opt.checkpoint && !opt.keep_checkpoint)
+            unlink(opt.checkpoint);
+        else if (opt.checkpoint) {
+            uint32_t *all = malloc(opt.height * sizeof *all);
+            if (all) {
+                for (uint32_t y = 0; y < opt.height; y++)
+                    all[y] = opt.samples;
+                st = rt_ckpt_write(opt.checkpoint, &ck, all, job.acc);
+                free(all);
+                if (st)
+                    fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", opt.checkpoint,
+                            rt_status_str(st));
+            }
+        }
         double rss_min = res.ranks[0].maxrss_mb, rss_max = rss_min;
         for (int i = 1; i < farm.size; i++) {
             if (res.ranks[i].maxrss_mb < rss_min)
@@ -241,22 +360,35 @@ int main(int argc, char **argv)
                    scene_hash);
         else
             printf("scene:         %s, %u spheres, hash %016" PRIx64 "\n", opt.scene, scene.n_spheres, scene_hash);
-        printf("intersector:   %s\n", rt_accel_name(opt.accel));
-        printf("ranks:         %d x %d threads, %u units of %u rows\n", farm.size, threads, res.units, band);
-        printf("wall time:     %.3f s\n", res.wall);
+        printf("intersector:   %s (%.0f KiB)\n", rt_accel_name(opt.accel), rt_accel_bytes(accel) / 1024.0);
+        printf("ranks:         %d x %d threads, %u units", farm.size, threads, res.units);
+        if (samples_restored)
+            printf(", %.1f%% of the samples restored from %s (%u complete rows)",
+                   100.0 * (double)samples_restored / ((double)opt.height * opt.samples), opt.checkpoint, rows_restored);
+        printf("\n");
+        printf("wall time:     %.3f s render, %.3f s total\n", res.wall, rt_now() - t_start);
         printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res.segments,
                res.wall > 0 ? (double)res.segments / res.wall / 1e6 : 0.0);
         printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank\n", res.ranks[0].maxrss_mb, rss_min,
                rss_max);
         for (int i = 0; i < farm.size && farm.size > 1; i++)
-            printf("rank %d: %" PRIu64 " units, %" PRIu64 " rows, %.3f s busy, %.3f M segments/s\n", i,
-                   res.ranks[i].units, res.ranks[i].rows, res.ranks[i].busy,
-                   res.ranks[i].busy > 0 ? (double)res.ranks[i].segments / res.ranks[i].busy / 1e6 : 0.0);
+            printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f M segments/s\n", i,
+                   res.ranks[i].units, res.ranks[i].rows, res.ranks[i].busy, res.ranks[i].wait,
+                   res.ranks[i].busy > 0 ? res.ranks[i].segments / res.ranks[i].busy / 1e6 : 0.0);
         printf("image hash:    %016" PRIx64 "\n", hash);
         fflush(stdout);
+        rt_run_summary sum = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene_hash, hash,
+                              opt.output, rt_accel_name(opt.accel), farm.size, threads, res.units, rows_restored,
+                              res.wall, rt_now() - t_start, res.segments, res.ranks};
+        if (opt.stats && (st = rt_report_stats(opt.stats, &sum)) != RT_OK)
+            fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", opt.stats, rt_status_str(st));
+        if (opt.trace && (st = rt_report_trace(opt.trace, res.trace, res.n_trace, farm.size)) != RT_OK)
+            fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", opt.trace, rt_status_str(st));
         free(rgb);
-        free(res.acc);
+        free(job.acc);
+        free(restored);
         free(res.ranks);
+        free(res.trace);
     }
     rt_accel_free(accel);
     rt_scene_free(&scene);

@@ -21,6 +21,7 @@ void rt_progress_init(rt_progress *p, uint64_t total_rows, int quiet)
     p->last = p->t0;
     p->total_rows = total_rows ? total_rows : 1;
     p->pass = p->passes = 0;
+    p->base_rows = 0;
 }
 
 static void fmt_time(char *buf, size_t n, double s)
@@ -39,7 +40,9 @@ static void fmt_time(char *buf, size_t n, double s)
 static void print_line(rt_progress *p, uint64_t rows_done, uint64_t segments, double now, int final)
 {
     double el = now - p->t0, frac = (double)rows_done / (double)p->total_rows;
-    double eta = frac > 0 ? el * (1.0 - frac) / frac : -1;
+    double todo = (double)(p->total_rows - p->base_rows);
+    double new_frac = todo > 0 ? (double)(rows_done - p->base_rows) / todo : 1.0;
+    double eta = new_frac > 0 ? el * (1.0 - new_frac) / new_frac : -1;
     char e[32], r[32];
     fmt_time(e, sizeof e, el);
     fmt_time(r, sizeof r, eta);

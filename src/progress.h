@@ -9,6 +9,7 @@ typedef struct rt_progress {
     int enabled, tty;
     double t0, last;
     uint64_t total_rows;
+    uint64_t base_rows; /* rows restored from a checkpoint: not part of the rate */
     int pass, passes;
 } rt_progress;
 

@@ -27,6 +27,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->scene = s;
     r->accel = a;
     r->p = *p;
+    r->stop = NULL;
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
@@ -79,6 +80,8 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
 #endif
 #pragma omp parallel for schedule(dynamic, 8) reduction(+ : total) num_threads(nthreads) if (nthreads > 1)
     for (long i = 0; i < npix; i++) {
+        if (r->stop && *r->stop)
+            continue;
         uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
         int64_t sr = 0, sg = 0, sb = 0;
         uint64_t segs = 0;

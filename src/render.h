@@ -9,6 +9,7 @@
 #ifndef RT_RENDER_H
 #define RT_RENDER_H
 
+#include <signal.h>
 #include <stdint.h>
 
 #include "accel.h"
@@ -36,6 +37,9 @@ typedef struct rt_renderer {
     const rt_accel *accel;
     rt_camera camera;
     rt_render_params p;
+    /* When set and *stop becomes non-zero (a signal), rt_render_rows skips
+     * the remaining pixels; the caller then discards the unit. */
+    const volatile sig_atomic_t *stop;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p);

@@ -45,11 +45,21 @@ expect_error "unsupported extension" "unsupported file type '.jpg'" -o "$WORK/x.
 expect_error "output is a directory" "is a directory" -o "$WORK/adir.png"
 if [ "$(id -u)" -ne 0 ]; then
     expect_error "read-only directory" "not writable" -o "$WORK/ro/x.png"
+elif mkdir -p "$WORK/rofs" && mount -t tmpfs -o ro,size=64k tmpfs "$WORK/rofs" 2>/dev/null; then
+    # root may write into any directory: a read-only file system stops it
+    expect_error "read-only file system" "not writable" -o "$WORK/rofs/x.png"
+    umount "$WORK/rofs"
+else
+    echo "SKIP: read-only directory case (root, and no permission to mount)"
 fi
 expect_error "bad accel" "not one of" --accel magic -o "$OUT"
 OMP_NUM_THREADS=abc "$BIN" --width 32 --height 16 -s 2 -q -o "$OUT" >/dev/null 2>"$WORK/e.txt"
 check_eq "OMP_NUM_THREADS=abc exit status" $? 2
 grep -q "^rt-mpi: error: OMP_NUM_THREADS='abc'" "$WORK/e.txt" && pass "OMP_NUM_THREADS message" || fail "OMP_NUM_THREADS message: $(cat "$WORK/e.txt")"
+# More threads than cores: a warning, and the render still completes.
+"$BIN" --width 32 --height 16 -s 2 -q -j 64 -o "$WORK/many.png" --no-checkpoint >/dev/null 2>"$WORK/e.txt"
+check_eq "-j 64 on a small machine: exit status" $? 0
+grep -q "^rt-mpi: warning: -j 64 is more than" "$WORK/e.txt" && pass "-j 64 warns" || fail "-j 64: $(cat "$WORK/e.txt")"
 # The existing file survives a bad run that targets it.
 "$BIN" --width 32 --height 16 -s 0 -q -o "$WORK/keep.png" 2>/dev/null
 check_eq "existing output untouched" "$(cat "$WORK/keep.png")" precious

@@ -28,12 +28,14 @@ run_variant() { # label outfile command...
 run_variant "no mpirun -j 2" "$WORK/a.png" "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/a.png"
 run_variant "no mpirun --band 1" "$WORK/b.png" "$BIN" "${ARGS[@]}" -j 2 --band 1 -o "$WORK/b.png"
 run_variant "no mpirun --band 7" "$WORK/c.png" "$BIN" "${ARGS[@]}" -j 1 --band 7 -o "$WORK/c.png"
+run_variant "progressive --passes 4" "$WORK/p.png" "$BIN" "${ARGS[@]}" -j 2 --passes 4 -o "$WORK/p.png"
 run_variant "build without MPI -j 2" "$WORK/d.png" "$SERIAL" "${ARGS[@]}" -j 2 -o "$WORK/d.png"
 if [ -n "$MPIRUN" ]; then
     run_variant "mpirun -np 1" "$WORK/e.png" mpirun_np 1 "$BIN" "${ARGS[@]}" -o "$WORK/e.png"
     run_variant "mpirun -np 2 -j 1" "$WORK/f.png" mpirun_np 2 "$BIN" "${ARGS[@]}" -j 1 -o "$WORK/f.png"
     run_variant "mpirun -np 2 -j 2 --band 3" "$WORK/g.png" mpirun_np 2 "$BIN" "${ARGS[@]}" -j 2 --band 3 -o "$WORK/g.png"
     run_variant "mpirun -np 3 --oversubscribe --band 1" "$WORK/h.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --band 1 -o "$WORK/h.png"
+    run_variant "mpirun -np 3 --passes 2 --band 5" "$WORK/q.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --passes 2 --band 5 -o "$WORK/q.png"
     run_variant "mpirun -np 4 --oversubscribe --band 64" "$WORK/i.png" mpirun_np 4 "$BIN" "${ARGS[@]}" -j 1 --band 64 -o "$WORK/i.png"
     # Every rank rendered something when there is enough work, and the
     # summary accounts for all rows.

@@ -49,6 +49,16 @@ else
 fi
 grep -v '^[0-9]* passed' "$WORK/check.txt" | sed 's/^/  /'
 
+# Progressive passes: previews go out in the format their extension names,
+# and the final file is the same as from one pass.
+"$BIN" "${ARGS[@]}" --passes 2 -o "$D/prog.exr" >"$WORK/prog.out" 2>&1 &&
+    cmp -s "$D/prog.exr" "$D/out.exr" && pass "--passes 2 -o .exr: same file as one pass" ||
+    fail "--passes 2 -o .exr: $(head -c 300 "$WORK/prog.out")"
+"$BIN" "${ARGS[@]}" --passes 3 --preview "$D/prev.pfm" -o "$D/prog.png" >"$WORK/prog.out" 2>&1
+check_eq "--passes 3 --preview .pfm: image hash" "$(hash_of "$WORK/prog.out")" "$(hash_of "$WORK/ref.png.out")"
+check_eq "the preview is a PFM of the image's size" "$(head -3 "$D/prev.pfm" | tr '\n' ' ')$(stat -c %s "$D/prev.pfm")" \
+    "PF 67 41 -1.0 $((14 + 67 * 41 * 12))"
+
 O="$WORK/out"
 expect_usage_error "unknown extension" "--output: unsupported file type '.tiff' (supported: .png, .ppm, .bmp, .pfm, .exr)" \
     "$BIN" "${ARGS[@]}" -o "$O/x.tiff"
@@ -57,7 +67,11 @@ expect_usage_error "16-bit BMP" "--bit-depth 16: .bmp files are written with 8 b
     "$BIN" "${ARGS[@]}" --bit-depth 16 -o "$O/x.bmp"
 expect_usage_error "16-bit EXR" "--bit-depth 16: .exr files are written as 32-bit float" \
     "$BIN" "${ARGS[@]}" --bit-depth 16 -o "$O/x.exr"
-expect_usage_error "ASCII PNG" "--ppm-ascii: the output '.*x.png' is not a .ppm file" \
+expect_usage_error "ASCII PNG" "--ppm-ascii: --output '.*x.png' is not a .ppm file" \
     "$BIN" "${ARGS[@]}" --ppm-ascii -o "$O/x.png"
 expect_usage_error "bit depth 12" "--bit-depth: '12' is not 8 or 16" "$BIN" "${ARGS[@]}" --bit-depth 12 -o "$O/x.png"
+expect_usage_error "unknown preview extension" "--preview: unsupported file type '.tiff'" \
+    "$BIN" "${ARGS[@]}" --passes 2 --preview "$O/p.tiff" -o "$O/x.png"
+expect_usage_error "16-bit BMP preview" "--bit-depth 16: .bmp files are written with 8 bits per channel only" \
+    "$BIN" "${ARGS[@]}" --passes 2 --bit-depth 16 --preview "$O/p.bmp" -o "$O/x.png"
 finish

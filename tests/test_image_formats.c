@@ -110,6 +110,29 @@ int main(void)
         CHECK_NEAR(backf[97], lin[97], 0);
     }
     free(backf);
+
+    /* A preview: rows hold different sample counts, rows without samples
+     * are black. */
+    uint32_t row_samples[H];
+    for (uint32_t y = 0; y < H; y++)
+        row_samples[y] = y % 3 == 0 ? 0 : y % 3 == 1 ? SPP : 1;
+    snprintf(path, sizeof path, "%s/rows.exr", dir);
+    CHECK_EQ_INT(rt_image_write_rows(path, acc, W, H, row_samples, &o8), RT_OK);
+    CHECK_EQ_INT(test_read_exr(path, &backf, &w, &h), 0);
+    if (backf) {
+        int rows_ok = 1;
+        float want[W * 3];
+        for (uint32_t y = 0; y < H; y++) {
+            if (row_samples[y])
+                rt_image_to_linear(acc + (size_t)y * W * 3, W, row_samples[y], want);
+            else
+                memset(want, 0, sizeof want);
+            rows_ok &= memcmp(backf + (size_t)y * W * 3, want, sizeof want) == 0;
+        }
+        CHECK(rows_ok);
+    }
+    free(backf);
+    unlink(path);
     CHECK_EQ_INT(count_files(dir), 2);
 
     /* Failures that cannot start: no file. */

@@ -1,0 +1,34 @@
+/* checkpoint.h - the resumable state of a render: how many samples of each
+ * row are summed, and those fixed-point sums, with a header that identifies the job and a
+ * checksum over everything. Written atomically (temp file, fsync, rename).
+ *
+ * Because sums are exact integers, a resumed run adds the missing rows to
+ * the restored ones and produces the same bytes as an uninterrupted run. */
+#ifndef RT_CHECKPOINT_H
+#define RT_CHECKPOINT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define RT_CKPT_VERSION 2u
+
+/* Everything that changes a pixel. */
+typedef struct rt_ckpt_job {
+    uint32_t width, height, samples, max_depth;
+    uint32_t diffuse, exact; /* exact = 0 only for the Embree intersector */
+    uint64_t seed, scene_hash;
+} rt_ckpt_job;
+
+/* committed: per row, the samples [0, committed) its sums cover; acc:
+ * width*height*3 sums, of which rows with committed > 0 are stored. */
+int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *committed, const int64_t *acc);
+
+/* Loads a checkpoint for `expect`. Fills committed and the sums of the rows
+ * that have samples (other rows of acc are zeroed); *rows_done counts the
+ * complete rows. On RT_EMISMATCH, `why` names the
+ * field that differs; RT_ECHECKSUM for corrupt or truncated files, RT_EFORMAT
+ * for files that are not checkpoints, RT_EIO when it cannot be read. */
+int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committed, int64_t *acc,
+                 uint32_t *rows_done, char *why, size_t whylen);
+
+#endif

@@ -1,0 +1,160 @@
+/* schedule.c - building and tracking work units. */
+#include "schedule.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "status.h"
+
+static int push(rt_sched *s, uint32_t *cap, rt_unit u)
+{
+    if (s->n_units == *cap) {
+        uint32_t nc = *cap ? *cap * 2 : 256;
+        rt_unit *q = realloc(s->units, (size_t)nc * sizeof *q);
+        if (!q)
+            return RT_ENOMEM;
+        s->units = q;
+        *cap = nc;
+    }
+    u.id = s->n_units;
+    s->units[s->n_units++] = u;
+    return RT_OK;
+}
+
+uint32_t rt_sched_pass_end(const rt_sched *s, uint32_t k)
+{
+    return (uint32_t)((uint64_t)s->samples * (k + 1) / s->passes);
+}
+
+typedef struct band {
+    uint32_t y0, y1, c; /* rows and the samples they already have */
+} band;
+
+int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committed)
+{
+    memset(s, 0, sizeof *s);
+    if (!p->height || !p->samples || !p->ranks)
+        return RT_EINVAL;
+    s->height = p->height;
+    s->samples = p->samples;
+    s->passes = p->passes < 1 ? 1 : p->passes > p->samples ? p->samples : p->passes;
+    s->committed = calloc(p->height, sizeof *s->committed);
+    if (!s->committed)
+        return RT_ENOMEM;
+    uint32_t todo = 0;
+    for (uint32_t y = 0; y < p->height; y++) {
+        uint32_t c = committed ? committed[y] : 0;
+        s->committed[y] = c < p->samples ? c : p->samples;
+        if (s->committed[y] == p->samples)
+            s->rows_done++;
+        else
+            todo++;
+    }
+    uint32_t max_band = p->band ? p->band : (p->max_band ? p->max_band : 16);
+    uint64_t want = (uint64_t)p->ranks * (p->units_per_rank ? p->units_per_rank : 8);
+    uint32_t min_s = p->min_samples ? p->min_samples : 1;
+
+    /* Sample split inside a pass: when even one-row bands are too few. */
+    uint32_t splits = 1;
+    uint32_t pass_len = p->samples / s->passes;
+    if (todo > 0 && (uint64_t)todo < want) {
+        uint64_t k = (want + todo - 1) / todo;
+        uint64_t kmax = pass_len / min_s;
+        if (kmax < 1)
+            kmax = 1;
+        splits = (uint32_t)(k < kmax ? k : kmax);
+    }
+
+    /* One row partition, reused by every pass: runs of rows that have the
+     * same committed count, cut into bands of guided (or fixed) height. */
+    band *bands = NULL;
+    uint32_t nb = 0, capb = 0, remaining = todo;
+    int st = RT_OK;
+    for (uint32_t y = 0; y < p->height && !st;) {
+        uint32_t c = s->committed[y];
+        if (c == p->samples) {
+            y++;
+            continue;
+        }
+        uint32_t rows = max_band;
+        if (!p->band) {
+            uint64_t g = (uint64_t)remaining / (2 * want / splits + 1);
+            rows = g < 1 ? 1 : g > max_band ? max_band : (uint32_t)g;
+        }
+        uint32_t y1 = y;
+        while (y1 < p->height && y1 - y < rows && s->committed[y1] == c)
+            y1++;
+        if (nb == capb) {
+            capb = capb ? 2 * capb : 256;
+            band *q = realloc(bands, capb * sizeof *q);
+            if (!q) {
+                st = RT_ENOMEM;
+                break;
+            }
+            bands = q;
+        }
+        bands[nb++] = (band){y, y1, c};
+        remaining -= y1 - y;
+        y = y1;
+    }
+    uint32_t capu = 0;
+    for (uint32_t k = 0; k < s->passes && !st; k++) {
+        uint32_t p0 = k ? rt_sched_pass_end(s, k - 1) : 0, p1 = rt_sched_pass_end(s, k);
+        for (uint32_t b = 0; b < nb && !st; b++) {
+            uint32_t lo = bands[b].c > p0 ? bands[b].c : p0;
+            if (lo >= p1)
+                continue;
+            for (uint32_t j = 0; j < splits && !st; j++) {
+                uint32_t s0 = lo + (uint32_t)((uint64_t)(p1 - lo) * j / splits);
+                uint32_t s1 = lo + (uint32_t)((uint64_t)(p1 - lo) * (j + 1) / splits);
+                if (s1 > s0)
+                    st = push(s, &capu, (rt_unit){0, bands[b].y0, bands[b].y1, s0, s1});
+            }
+        }
+    }
+    free(bands);
+    if (st)
+        rt_sched_free(s);
+    return st;
+}
+
+void rt_sched_free(rt_sched *s)
+{
+    free(s->units);
+    free(s->committed);
+    memset(s, 0, sizeof *s);
+}
+
+int rt_sched_next(rt_sched *s, rt_unit *u)
+{
+    if (s->next >= s->n_units)
+        return 0;
+    *u = s->units[s->next++];
+    return 1;
+}
+
+const rt_unit *rt_sched_unit(const rt_sched *s, uint32_t id) { return id < s->n_units ? &s->units[id] : NULL; }
+
+int rt_sched_can_commit(const rt_sched *s, const rt_unit *u) { return s->committed[u->y0] == u->s0; }
+
+uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u)
+{
+    uint32_t completed = 0;
+    s->units_done++;
+    for (uint32_t y = u->y0; y < u->y1; y++) {
+        s->committed[y] = u->s1;
+        if (u->s1 == s->samples)
+            completed++;
+    }
+    s->rows_done += completed;
+    return completed;
+}
+
+uint32_t rt_sched_min_committed(const rt_sched *s)
+{
+    uint32_t m = s->samples;
+    for (uint32_t y = 0; y < s->height; y++)
+        if (s->committed[y] < m)
+            m = s->committed[y];
+    return m;
+}

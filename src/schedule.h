@@ -1,0 +1,65 @@
+/* schedule.h - the work-unit schedule: which (rows, samples) blocks exist,
+ * which is handed out next, and how far each row's sum has been committed.
+ * No MPI and no threads here: the farm calls it under its own lock.
+ *
+ * A unit is rows [y0, y1) x samples [s0, s1). Units come pass by pass (one
+ * pass unless progressive), and within a pass in row order, the larger
+ * first and smaller towards the end (guided scheduling), so the tail of the
+ * job is made of short units that keep every rank busy. When there are too
+ * few row bands for the ranks, bands are split into sample ranges.
+ *
+ * Commit order: a unit's sums are added to the image only when every sample
+ * before s0 is already in for its rows (committed[y] == s0); the farm holds
+ * early arrivals until then. So each row's sum always covers exactly samples
+ * [0, committed[y]), which is what previews and checkpoints need. (Sums are
+ * exact integers, so the order of addition never changes the image itself.)
+ */
+#ifndef RT_SCHEDULE_H
+#define RT_SCHEDULE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct rt_unit {
+    uint32_t id;
+    uint32_t y0, y1; /* rows */
+    uint32_t s0, s1; /* samples */
+} rt_unit;
+
+typedef struct rt_sched_params {
+    uint32_t height, samples;
+    uint32_t band;           /* fixed rows per unit; 0 = guided sizes up to max_band */
+    uint32_t max_band;
+    uint32_t ranks;          /* ranks that render */
+    uint32_t units_per_rank; /* wanted units per rank and pass for balance */
+    uint32_t min_samples;    /* smallest sample range when splitting (>= 1) */
+    uint32_t passes;         /* progressive passes over the image (>= 1) */
+} rt_sched_params;
+
+typedef struct rt_sched {
+    rt_unit *units;
+    uint32_t n_units, next;
+    uint32_t *committed; /* per row: samples [0, committed) are summed */
+    uint32_t height, samples, passes;
+    uint32_t rows_done;  /* rows with every sample committed */
+    uint32_t units_done;
+} rt_sched;
+
+/* Plans units for every sample not already committed (committed may be NULL:
+ * nothing done yet; else one count per row, e.g. from a checkpoint). */
+int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committed);
+void rt_sched_free(rt_sched *s);
+/* Next unit to hand out; returns 0 when every unit has been handed out. */
+int rt_sched_next(rt_sched *s, rt_unit *u);
+/* Looks a unit up by id (for results coming back); NULL if unknown. */
+const rt_unit *rt_sched_unit(const rt_sched *s, uint32_t id);
+/* 1 when u's sums can be added now (its rows have committed exactly s0). */
+int rt_sched_can_commit(const rt_sched *s, const rt_unit *u);
+/* Records u as added; returns how many rows it completed. */
+uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u);
+/* Samples committed in every row (the image is complete up to this). */
+uint32_t rt_sched_min_committed(const rt_sched *s);
+/* End of progressive pass k (sample count), for k in [0, passes). */
+uint32_t rt_sched_pass_end(const rt_sched *s, uint32_t k);
+
+#endif

@@ -1,0 +1,93 @@
+/* test_checkpoint.c - checkpoint round trip; a checkpoint of another job is
+ * refused naming the field; corruption and truncation are caught by the
+ * checksum; nothing is left behind by a failed write. */
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "checkpoint.h"
+#include "status.h"
+
+int main(void)
+{
+    char dir[] = "/tmp/rt-ckpt-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/c.ckpt", dir);
+    const uint32_t W = 5, H = 7;
+    rt_ckpt_job job = {W, H, 16, 50, 0, 1, 42, 0x1234};
+    int64_t acc[5 * 7 * 3], back[5 * 7 * 3];
+    uint32_t done[7] = {16, 0, 16, 5, 0, 0, 16}, done2[7]; /* samples per row */
+    for (int i = 0; i < 5 * 7 * 3; i++)
+        acc[i] = (int64_t)i * 1000003 - 7;
+    CHECK_EQ_INT(rt_ckpt_write(path, &job, done, acc), RT_OK);
+    char why[256];
+    uint32_t n = 0;
+    memset(back, 0x55, sizeof back);
+    CHECK_EQ_INT(rt_ckpt_read(path, &job, done2, back, &n, why, sizeof why), RT_OK);
+    CHECK_EQ_INT(n, 3); /* complete rows */
+    CHECK(memcmp(done, done2, sizeof done) == 0);
+    int rows_ok = 1;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t i = 0; i < W * 3; i++)
+            rows_ok &= back[y * W * 3 + i] == (done[y] ? acc[y * W * 3 + i] : 0);
+    CHECK(rows_ok);
+
+    /* Each field of the job identity is checked. */
+    rt_ckpt_job other = job;
+    other.samples = 17;
+    CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+    CHECK(strstr(why, "samples 16") != NULL);
+    other = job;
+    other.seed = 43;
+    CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+    CHECK(strstr(why, "seed") != NULL);
+    other = job;
+    other.scene_hash = 1;
+    CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+
+    /* A sample count above the job's is refused even with a valid checksum. */
+    uint32_t over[7] = {17, 0, 0, 0, 0, 0, 0};
+    char odd[256];
+    snprintf(odd, sizeof odd, "%s/odd.ckpt", dir);
+    CHECK_EQ_INT(rt_ckpt_write(odd, &job, over, acc), RT_OK);
+    CHECK_EQ_INT(rt_ckpt_read(odd, &job, done2, back, &n, why, sizeof why), RT_EFORMAT);
+    unlink(odd);
+
+    /* Corruption anywhere and truncation are refused. */
+    FILE *fp = fopen(path, "rb");
+    unsigned char buf[4096];
+    size_t len = fread(buf, 1, sizeof buf, fp);
+    fclose(fp);
+    int refused = 1;
+    char bad[256];
+    snprintf(bad, sizeof bad, "%s/bad.ckpt", dir);
+    for (size_t i = 8; i < len; i += 5) {
+        buf[i] ^= 0x10;
+        fp = fopen(bad, "wb");
+        fwrite(buf, 1, len, fp);
+        fclose(fp);
+        buf[i] ^= 0x10;
+        int st = rt_ckpt_read(bad, &job, done2, back, &n, why, sizeof why);
+        refused &= st == RT_ECHECKSUM;
+    }
+    CHECK(refused);
+    fp = fopen(bad, "wb");
+    fwrite(buf, 1, len - 9, fp);
+    fclose(fp);
+    CHECK_EQ_INT(rt_ckpt_read(bad, &job, done2, back, &n, why, sizeof why), RT_ECHECKSUM);
+    fp = fopen(bad, "wb");
+    fputs("hello, not a checkpoint", fp);
+    fclose(fp);
+    CHECK_EQ_INT(rt_ckpt_read(bad, &job, done2, back, &n, why, sizeof why), RT_EFORMAT);
+    snprintf(bad, sizeof bad, "%s/missing.ckpt", dir);
+    CHECK_EQ_INT(rt_ckpt_read(bad, &job, done2, back, &n, why, sizeof why), RT_EIO);
+    /* A write into a missing directory fails and creates nothing. */
+    snprintf(bad, sizeof bad, "%s/no/such.ckpt", dir);
+    CHECK(rt_ckpt_write(bad, &job, done, acc) != RT_OK);
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2 && rm -rf %s", dir, dir);
+    CHECK_EQ_INT(system(cmd), 0);
+    CHECK_DONE();
+}

@@ -1,0 +1,145 @@
+/* test_schedule.c - work units cover every (row, sample) exactly once, for
+ * any band setting, rank count, number of passes and set of samples restored
+ * from a checkpoint; committing in schedule order is always possible; guided
+ * sizes shrink towards the end; few rows split into sample ranges. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "schedule.h"
+#include "status.h"
+
+/* Hands out every unit, commits them in a scrambled arrival order (holding
+ * early ones as the farm does) and checks coverage. */
+static int covers_once(rt_sched *s, uint32_t H, uint32_t S, const uint32_t *start, uint32_t *max_rows)
+{
+    uint32_t *hits = calloc((size_t)H * S, sizeof *hits);
+    rt_unit *got = malloc((s->n_units + 1) * sizeof *got);
+    uint32_t n = 0;
+    int ok = 1;
+    *max_rows = 0;
+    rt_unit u;
+    while (rt_sched_next(s, &u)) {
+        ok &= u.y0 < u.y1 && u.y1 <= H && u.s0 < u.s1 && u.s1 <= S;
+        if (u.y1 - u.y0 > *max_rows)
+            *max_rows = u.y1 - u.y0;
+        for (uint32_t y = u.y0; y < u.y1 && ok; y++)
+            for (uint32_t k = u.s0; k < u.s1; k++)
+                hits[(size_t)y * S + k]++;
+        got[n++] = u;
+    }
+    /* arrival order: reverse within groups of 5 */
+    for (uint32_t g = 0; g < n; g += 5) {
+        uint32_t e = g + 5 < n ? g + 5 : n;
+        for (uint32_t a = g, b = e - 1; a < b; a++, b--) {
+            rt_unit t = got[a];
+            got[a] = got[b];
+            got[b] = t;
+        }
+    }
+    uint32_t left = n, rounds = 0;
+    while (left && rounds++ < n + 5) {
+        for (uint32_t i = 0; i < n; i++) {
+            if (got[i].y1 && rt_sched_can_commit(s, &got[i])) {
+                rt_sched_commit(s, &got[i]);
+                got[i].y1 = 0;
+                left--;
+            }
+        }
+    }
+    ok &= left == 0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t k = 0; k < S; k++)
+            ok &= hits[(size_t)y * S + k] == ((start && k < start[y]) ? 0u : 1u);
+    ok &= s->rows_done == H && rt_sched_min_committed(s) == S;
+    free(hits);
+    free(got);
+    return ok;
+}
+
+static rt_sched_params P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
+{
+    rt_sched_params p = {h, s, band, 16, ranks, per_rank, 1, passes};
+    return p;
+}
+
+int main(void)
+{
+    const uint32_t H = 97, S = 10;
+    uint32_t max_rows;
+    uint32_t bands[] = {0, 1, 5, 16, 200};
+    uint32_t ranks[] = {1, 2, 7, 64, 1000};
+    uint32_t passes[] = {1, 3, 10};
+    for (size_t b = 0; b < sizeof bands / sizeof *bands; b++)
+        for (size_t r = 0; r < sizeof ranks / sizeof *ranks; r++)
+            for (size_t q = 0; q < sizeof passes / sizeof *passes; q++) {
+                rt_sched_params p = P(H, S, bands[b], ranks[r], 8, passes[q]);
+                rt_sched s;
+                CHECK_EQ_INT(rt_sched_init(&s, &p, NULL), RT_OK);
+                int ok = covers_once(&s, H, S, NULL, &max_rows);
+                CHECK(ok);
+                if (!ok)
+                    fprintf(stderr, "  band %u ranks %u passes %u\n", bands[b], ranks[r], passes[q]);
+                CHECK(max_rows <= (bands[b] ? bands[b] : 16));
+                rt_sched_free(&s);
+            }
+    /* Restored samples (whole and partial rows) are not planned again. */
+    uint32_t start[97];
+    for (uint32_t y = 0; y < H; y++)
+        start[y] = y % 3 == 0 ? S : y % 3 == 1 ? 4 : 0;
+    start[50] = start[51] = start[52] = 7;
+    for (size_t q = 0; q < sizeof passes / sizeof *passes; q++) {
+        rt_sched_params p = P(H, S, 4, 3, 8, passes[q]);
+        rt_sched s;
+        CHECK_EQ_INT(rt_sched_init(&s, &p, start), RT_OK);
+        CHECK(covers_once(&s, H, S, start, &max_rows));
+        rt_sched_free(&s);
+    }
+    /* Progressive: the units of pass k all come before those of pass k+1. */
+    rt_sched s;
+    rt_sched_params pp = P(20, 12, 5, 2, 8, 3);
+    CHECK_EQ_INT(rt_sched_init(&s, &pp, NULL), RT_OK);
+    int ordered = 1;
+    for (uint32_t i = 1; i < s.n_units; i++)
+        ordered &= s.units[i].s0 >= s.units[i - 1].s0 || s.units[i].s1 <= s.units[i - 1].s1;
+    CHECK(ordered);
+    CHECK_EQ_INT(rt_sched_pass_end(&s, 0), 4);
+    CHECK_EQ_INT(s.units[0].s1, 4);
+    CHECK_EQ_INT(s.units[s.n_units - 1].s1, 12);
+    rt_sched_free(&s);
+
+    /* Guided: the first unit is the largest, the last ones are single rows. */
+    rt_sched_params g = P(800, 500, 0, 2, 8, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &g, NULL), RT_OK);
+    CHECK_EQ_INT(s.units[0].y1 - s.units[0].y0, 16);
+    CHECK_EQ_INT(s.units[s.n_units - 1].y1 - s.units[s.n_units - 1].y0, 1);
+    int shrinking = 1;
+    for (uint32_t i = 1; i < s.n_units; i++)
+        shrinking &= s.units[i].y1 - s.units[i].y0 <= s.units[i - 1].y1 - s.units[i - 1].y0;
+    CHECK(shrinking);
+    CHECK(s.n_units >= 16);
+    rt_sched_free(&s);
+
+    /* More ranks than rows: samples are split so every rank gets work. */
+    rt_sched_params many = P(8, 500, 0, 1024, 4, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &many, NULL), RT_OK);
+    CHECK(s.n_units >= 1024);
+    CHECK(s.units[0].s1 - s.units[0].s0 < 500);
+    CHECK(covers_once(&s, 8, 500, NULL, &max_rows));
+    rt_sched_free(&s);
+
+    /* A unit cannot be committed before its predecessor in the row. */
+    rt_sched_params two = P(2, 4, 2, 4, 2, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &two, NULL), RT_OK);
+    CHECK(s.n_units >= 2);
+    rt_unit u0, u1;
+    CHECK(rt_sched_next(&s, &u0));
+    CHECK(rt_sched_next(&s, &u1));
+    CHECK_EQ_INT(u1.s0, u0.s1);
+    CHECK(!rt_sched_can_commit(&s, &u1));
+    CHECK(rt_sched_can_commit(&s, &u0));
+    rt_sched_free(&s);
+    rt_sched_params none = P(0, 4, 1, 1, 8, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &none, NULL), RT_EINVAL);
+    CHECK_DONE();
+}
