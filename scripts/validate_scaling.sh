@@ -1,0 +1,171 @@
+#!/bin/bash
+# validate_scaling.sh [--quick] [--rounds N] [--out DIR] [--only serve|validate|predict]
+# Measures what the scaling model (scripts/simulate_scaling.py) needs and
+# checks it against real runs on this machine, in a few minutes:
+#   serve     rank 0's service rate: --empty-units --serve-only at np 2, 4, 8
+#             x prefetch 1, 2, 4 (1-row units of a 1200-wide image), then at
+#             the busiest setting three result sizes (16 x 1, 1200 x 1 and
+#             1200 x 16 pixels); fits service = a + b * bytes -> OUT/serve.json
+#   validate  real jobs at -np 1, 2, 4, 8 (-j 1; oversubscribed past 2 cores)
+#             with --trace/--stats; the -np 1 trace is the cost profile, and
+#             the simulator predicts units and busy share per rank and rank
+#             0's message count, side by side with the measured ones. Two
+#             jobs: 600x400 (row bands) and 400x24 (sample split from -np 4)
+#   predict   calibration run 1200x800 at 4 spp, then predicted efficiency
+#             of the three policies for 1200x800 and 3840x2160 at 500 spp,
+#             16 threads per rank, 1 ... 4096 ranks
+# Results stay in OUT (default build/scaling): traces, stats, serve.tsv,
+# serve.json, validate.txt, predict-*.txt.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+OUT=$ROOT/build/scaling ROUNDS=2 ONLY="" QUICK=0
+while [ $# -gt 0 ]; do
+    case $1 in
+    --quick) QUICK=1 ROUNDS=1 ;;
+    --rounds) ROUNDS=$2; shift ;;
+    --out) OUT=$2; shift ;;
+    --only) ONLY=$2; shift ;;
+    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "validate_scaling.sh: unknown option $1" >&2; exit 2 ;;
+    esac
+    shift
+done
+BIN=$ROOT/build/rt-mpi
+[ -x "$BIN" ] || BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
+PY=python3
+[ -x /usr/bin/python3 ] && PY=/usr/bin/python3
+SIM="$PY $ROOT/scripts/simulate_scaling.py"
+export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
+[ "$(id -u)" -ne 0 ] || export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+CORES=$(nproc)
+mkdir -p "$OUT"
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+want() { [ -z "$ONLY" ] || [ "$ONLY" = "$1" ]; }
+run() { # np args... (quiet, no checkpoint, output in TMP); prints rt-mpi's summary
+    local np=$1
+    shift
+    if [ "$np" -eq 1 ]; then
+        nice -n 10 "$BIN" -q --no-checkpoint -o "$TMP/img.png" "$@"
+    else
+        nice -n 10 timeout 300 mpirun -np "$np" --oversubscribe --bind-to none "$BIN" -q --no-checkpoint \
+            -o "$TMP/img.png" "$@"
+    fi
+}
+render_wall() { sed -n 's/^wall time: *\([0-9.]*\) s render.*/\1/p'; }
+
+echo "validate_scaling: $CORES cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
+
+# ---- rank 0's service rate ----------------------------------------------------
+if want serve; then
+    echo
+    echo "== rank 0 service rate (--empty-units --serve-only, 1 thread per rank, best of $ROUNDS) =="
+    # units/s = units / render wall time; each config runs long enough (the
+    # image grows until the run takes >= 0.5 s, up to 32000 units or 20 M pixels)
+    serve_rate() { # np prefetch width band -> units/s (best of ROUNDS)
+        local np=$1 pf=$2 w=$3 band=$4 h=$(($4 * 1000)) best=0 wall rate r
+        for ((r = 1; r <= ROUNDS; r++)); do
+            while :; do
+                wall=$(run "$np" --empty-units --serve-only --width "$w" --height "$h" --band "$band" -s 1 -j 1 \
+                    --prefetch "$pf" | render_wall)
+                if awk -v t="$wall" -v h="$h" -v b="$band" -v w="$w" \
+                    'BEGIN {exit !(t < 0.5 && 4 * h / b <= 32000 && 4 * h * w <= 20e6)}'; then
+                    h=$((h * 4))
+                    continue
+                fi
+                break
+            done
+            rate=$(awk -v t="$wall" -v h="$h" -v b="$band" 'BEGIN {printf "%.0f", (h / b) / t}')
+            [ "$rate" -gt "$best" ] && best=$rate
+        done
+        echo "$best"
+    }
+    : >"$OUT/serve.tsv"
+    for np in 2 4 8; do
+        for pf in 1 2 4; do
+            printf '%s\t%s\t%s\t%s\t%s\n' "$np" "$pf" 1200 1 "$(serve_rate "$np" "$pf" 1200 1)" >>"$OUT/serve.tsv"
+        done
+    done
+    # result size: the busiest setting above, two more payloads
+    for wb in "16 1" "1200 16"; do
+        set -- $wb
+        printf '%s\t%s\t%s\t%s\t%s\n' 8 4 "$1" "$2" "$(serve_rate 8 4 "$1" "$2")" >>"$OUT/serve.tsv"
+    done
+    # fit service(bytes) = a + b * bytes on the np 8 / prefetch 4 rows: the
+    # highest rates seen, the closest this box gets to a saturated rank 0
+    $PY - "$OUT/serve.tsv" "$OUT/serve.json" <<'EOF'
+import json, sys
+rows = [l.split("\t") for l in open(sys.argv[1]).read().split("\n") if l]
+pts = []
+for np_, pf, w, band, rate in rows:
+    if np_ == "8" and pf == "4":
+        nbytes = int(w) * int(band) * 24 + 32
+        pts.append((nbytes, 1.0 / float(rate)))
+n = len(pts)
+mx = sum(p[0] for p in pts) / n
+my = sum(p[1] for p in pts) / n
+sxx = sum((p[0] - mx) ** 2 for p in pts)
+b = sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else 0.0
+b = max(b, 0.0)
+a = max(my - b * mx, min(p[1] for p in pts) * 0.5)
+best = max(float(r[4]) for r in rows)
+json.dump({"service_msg_s": a, "service_byte_s": b, "points": [{"bytes": x, "seconds": y} for x, y in pts],
+           "best_units_per_s": best, "source": "validate_scaling.sh --only serve"}, open(sys.argv[2], "w"), indent=1)
+print("fit: rank 0 service = %.1f us + %.3f ns/byte per result (an upper bound: on this box rank 0 shares"
+      % (a * 1e6, b * 1e9))
+print("     2 cores with the workers and whatever else runs)")
+EOF
+    # the latency model (naps, probe miss) predicts the rates of the
+    # settings that do not saturate rank 0
+    printf '%-4s %-8s %-12s %10s %10s %10s\n' np prefetch "unit pixels" "units/s" predicted "us/unit"
+    while IFS=$'\t' read -r np pf w band rate; do
+        $SIM --empty-units --width "$w" --height $((band * 4000)) --samples 1 --band "$band" --serve-only \
+            --ranks "$np" --prefetch "$pf" --network shm --service-json "$OUT/serve.json" --policies bands -q \
+            --json "$TMP/empty.json"
+        pred=$($PY -c 'import json,sys; print("%.0f" % json.load(open(sys.argv[1]))["results"][0]["bands"]["units_per_s"])' \
+            "$TMP/empty.json")
+        printf '%-4s %-8s %-12s %10s %10s %10.1f\n' "$np" "$pf" "${w}x$band" "$rate" "$pred" \
+            "$(awk -v r="$rate" 'BEGIN {print 1e6 / r}')"
+    done <"$OUT/serve.tsv" | tee "$OUT/serve.txt"
+fi
+
+# ---- predicted vs measured on this machine --------------------------------------
+if want validate; then
+    [ -f "$OUT/serve.json" ] || { echo "validate_scaling: run the serve part first (no $OUT/serve.json)" >&2; exit 1; }
+    echo
+    echo "== predicted vs measured load balance and messages (-j 1, np > $CORES oversubscribed) =="
+    : >"$OUT/validate.txt"
+    for job in "600 400 16 rows" "400 24 64 split"; do
+        set -- $job
+        W=$1 H=$2 S=$3 NAME=$4
+        [ $QUICK -eq 0 ] || S=$((S / 2))
+        args=(--width "$W" --height "$H" -s "$S" -j 1)
+        for np in 1 2 4 8; do
+            run "$np" "${args[@]}" --trace "$OUT/val-$NAME-np$np.trace.json" --stats "$OUT/val-$NAME-np$np.stats.json" \
+                >"$OUT/val-$NAME-np$np.out"
+        done
+        for np in 2 4 8; do
+            slow=$(awk -v n="$np" -v c="$CORES" 'BEGIN {print (n > c ? n / c : 1)}')
+            $SIM --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
+                --threads 1 --ranks "$np" --network shm --service-json "$OUT/serve.json" --slowdown "$slow" \
+                --compare "$OUT/val-$NAME-np$np.stats.json" --compare-trace "$OUT/val-$NAME-np$np.trace.json" \
+                --label "$NAME job ${W}x${H}, $S spp, -np $np -j 1" | tee -a "$OUT/validate.txt"
+        done
+    done
+fi
+
+# ---- predictions at scale -------------------------------------------------------
+if want predict; then
+    [ -f "$OUT/serve.json" ] || { echo "validate_scaling: run the serve part first (no $OUT/serve.json)" >&2; exit 1; }
+    echo
+    echo "== calibration: 1200x800, 4 spp, -j $CORES =="
+    run 1 --width 1200 --height 800 -s 4 -j "$CORES" --trace "$OUT/cal.trace.json" --stats "$OUT/cal.stats.json" |
+        grep -E 'wall time|segments'
+    for job in "1200 800" "3840 2160"; do
+        set -- $job
+        echo
+        $SIM --trace "$OUT/cal.trace.json" --stats "$OUT/cal.stats.json" --width "$1" --height "$2" --samples 500 \
+            --threads 16 --ranks 1-4096 --service-json "$OUT/serve.json" --json "$OUT/predict-$1x$2.json" |
+            tee "$OUT/predict-$1x$2.txt"
+    done
+fi
