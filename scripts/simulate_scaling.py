@@ -121,7 +121,8 @@ class Job:
         # R[y]: cost of rows [0, y) for one sample of every pixel
         self.R = [0.0] * (height + 1)
         for y in range(height):
-            row = width * (Hm / height) * (F((y + 1) * Hm / height) - F(y * Hm / height))
+            # mean cost per pixel-sample over the profile rows this row covers
+            row = width * (height / Hm) * (F((y + 1) * Hm / height) - F(y * Hm / height))
             self.R[y + 1] = self.R[y] + row
         self.total = self.R[height] * samples
 
@@ -332,11 +333,7 @@ def simulate_farm(job, N, m, split=True):
             messages += 1
             if msg[0] == "hello":
                 _, r, want = msg
-                sent = 0
-                for _k in range(want):
-                    if nxt >= n:
-                        break
-                    sent += 1
+                sent = max(0, min(want, n - nxt))
                 d = m.a * max(sent, 1)
                 server_busy += d
                 t1 = t + d
