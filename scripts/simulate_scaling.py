@@ -136,17 +136,22 @@ class Job:
 
 # ---- the schedule of src/schedule.c ----------------------------------------
 
-def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samples=1, split=True):
-    """The units rt_sched_init builds (no rows restored), in hand-out order."""
+def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samples=1, split=True, passes=1):
+    """The units rt_sched_init builds (nothing committed yet), in hand-out
+    order: pass by pass, in each pass guided row bands in row order, each
+    band split into `splits` sample ranges when rows are fewer than
+    ranks * per_rank (split=False: never, the "bands" policy)."""
+    passes = max(1, min(passes, samples))
     todo = height
     mb = band if band else (max_band if max_band else 16)
     want = ranks * per_rank
     splits = 1
+    pass_len = samples // passes
     if split and 0 < todo < want:
         k = (want + todo - 1) // todo
-        kmax = max(samples // min_samples, 1)
+        kmax = max(pass_len // min_samples, 1)
         splits = min(k, kmax)
-    units = []
+    bands = []
     y, remaining = 0, todo
     while y < height:
         rows = mb
@@ -154,13 +159,19 @@ def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samp
             g = remaining // (2 * want // splits + 1)
             rows = 1 if g < 1 else min(g, mb)
         y1 = min(y + rows, height)
-        for k in range(splits):
-            s0 = samples * k // splits
-            s1 = samples * (k + 1) // splits
-            if s1 > s0:
-                units.append((y, y1, s0, s1))
+        bands.append((y, y1))
         remaining -= y1 - y
         y = y1
+    units = []
+    for k in range(passes):
+        p0 = samples * k // passes
+        p1 = samples * (k + 1) // passes
+        for y0, y1 in bands:
+            for j in range(splits):
+                s0 = p0 + (p1 - p0) * j // splits
+                s1 = p0 + (p1 - p0) * (j + 1) // splits
+                if s1 > s0:
+                    units.append((y0, y1, s0, s1))
     return units
 
 
@@ -169,7 +180,7 @@ def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samp
 class Model:
     def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
                  prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
-                 band=0, probe_miss=1):
+                 band=0, probe_miss=1, passes=1):
         self.T = threads
         self.L = latency
         self.B = bandwidth
@@ -181,6 +192,7 @@ class Model:
         self.serve_only = serve_only
         self.band = band
         self.probe_miss = probe_miss
+        self.passes = passes
 
     def result_service(self, nbytes):
         return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
@@ -247,7 +259,7 @@ def simulate_static(job, N, m):
 def simulate_farm(job, N, m, split=True):
     """The rt-mpi farm: discrete-event simulation of rank 0's server, its
     render thread and N-1 workers."""
-    units = make_units(job.H, job.S, N, band=m.band, split=split)
+    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes)
     cost = [job.cost(u) / m.T * m.slowdown for u in units]
     nbytes = [job.payload(u) for u in units]
     n = len(units)
@@ -485,6 +497,7 @@ def main(argv=None):
     ap.add_argument("--service-byte", type=float, help="rank 0 seconds per result byte (default 0)")
     ap.add_argument("--prefetch", type=int, default=2, help="units in flight per worker [2]")
     ap.add_argument("--band", type=int, default=0, help="fixed rows per unit as --band (0: guided) [0]")
+    ap.add_argument("--passes", type=int, default=1, help="progressive passes as rt-mpi --passes [1]")
     ap.add_argument("--serve-only", action="store_true", help="rank 0 does not render")
     ap.add_argument("--nap-base", type=float, default=50e-6, help="first poll back-off nap, s [50e-6]")
     ap.add_argument("--nap-cap", type=float, default=1e-3, help="longest nap, s [1e-3]")
@@ -548,7 +561,7 @@ def main(argv=None):
     m = Model(threads=args.threads, latency=lat, bandwidth=bw, service_msg=smsg, service_byte=sbyte,
               prefetch=args.prefetch, nap_base=args.nap_base, nap_cap=args.nap_cap, nap_slack=args.nap_slack,
               slowdown=args.slowdown, serve_only=args.serve_only, band=args.band,
-              probe_miss=args.probe_miss)
+              probe_miss=args.probe_miss, passes=args.passes)
     if args.compare:
         return compare(job, m, args)
     policies = [p.strip() for p in args.policies.split(",") if p.strip()]
@@ -563,7 +576,7 @@ def main(argv=None):
                      "service_msg_s": m.a, "service_byte_s": m.b, "prefetch": m.prefetch,
                      "nap_base_s": m.nap_base, "nap_cap_s": m.nap_cap, "nap_slack_s": m.nap_slack,
                      "slowdown": m.slowdown, "serve_only": m.serve_only, "band": m.band,
-                     "probe_miss": m.probe_miss},
+                     "probe_miss": m.probe_miss, "passes": m.passes},
            "results": []}
     if not args.quiet:
         bw_s = "inf" if m.B == math.inf else "%.3g GB/s" % (m.B / 1e9)

@@ -169,19 +169,23 @@ with tempfile.TemporaryDirectory() as tmp:
 
     # 9. the real schedule: units of rt-mpi-serial's trace == make_units
     if len(sys.argv) > 1 and os.access(sys.argv[1], os.X_OK):
-        for w, h, s, band in ((64, 40, 4, 0), (32, 5, 8, 0), (16, 3, 20, 0), (24, 37, 2, 5), (8, 300, 1, 0)):
+        for w, h, s, band, passes in ((64, 40, 4, 0, 1), (32, 5, 8, 0, 1), (16, 3, 20, 0, 1), (24, 37, 2, 5, 1),
+                                      (8, 300, 1, 0, 1), (16, 40, 12, 0, 3), (16, 4, 12, 0, 2)):
             t = os.path.join(tmp, "r.json")
             cmd = [sys.argv[1], "--width", str(w), "--height", str(h), "-s", str(s), "-j", "1", "-q",
                    "--no-checkpoint", "-o", os.path.join(tmp, "r.png"), "--trace", t]
             if band:
                 cmd += ["--band", str(band)]
+            if passes > 1:
+                cmd += ["--passes", str(passes), "--preview", os.path.join(tmp, "prev.png")]
             p = subprocess.run(cmd, capture_output=True, text=True)
             if p.returncode != 0:
                 check("rt-mpi-serial %dx%d runs" % (w, h), False, p.stderr)
                 continue
             got = sorted((e["unit"], (e["y0"], e["y1"], e["s0"], e["s1"])) for e in sim.load_trace(t))
-            want = list(enumerate(sim.make_units(h, s, 1, band=band)))
-            check("schedule port == rt-mpi units (%dx%d, %d spp, band %d: %d units)" % (w, h, s, band, len(want)),
+            want = list(enumerate(sim.make_units(h, s, 1, band=band, passes=passes)))
+            check("schedule port == rt-mpi units (%dx%d, %d spp, band %d, %d pass%s: %d units)"
+                  % (w, h, s, band, passes, "es" if passes > 1 else "", len(want)),
                   got == want, "\n  rt-mpi %s\n  port   %s" % (got[:8], want[:8]))
     else:
         print("note: no rt-mpi-serial given: schedule cross-check not run")
