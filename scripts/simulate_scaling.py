@@ -180,7 +180,7 @@ def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samp
 class Model:
     def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
                  prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
-                 band=0, probe_miss=1, passes=1):
+                 band=0, probe_miss=1, passes=1, worker_overhead=0.0):
         self.T = threads
         self.L = latency
         self.B = bandwidth
@@ -193,6 +193,7 @@ class Model:
         self.band = band
         self.probe_miss = probe_miss
         self.passes = passes
+        self.worker_overhead = worker_overhead
 
     def result_service(self, nbytes):
         return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
@@ -376,8 +377,18 @@ def simulate_farm(job, N, m, split=True):
                 worker_start(t, r)
         elif kind == "w_end":
             r, i = who, data
-            w_busy[r] = False
             push(t + m.L, "arrive", 0, ("result", r, i))
+            if m.worker_overhead > 0:  # message handling between units
+                push(t + m.worker_overhead, "w_free", r)
+                continue
+            w_busy[r] = False
+            if wq[r]:
+                worker_start(t, r)
+            else:
+                w_idle[r] = t
+        elif kind == "w_free":
+            r = who
+            w_busy[r] = False
             if wq[r]:
                 worker_start(t, r)
             else:
@@ -403,6 +414,9 @@ def simulate(job, N, m, policy):
     res["efficiency"] = ideal / (N * res["makespan"]) if res["makespan"] > 0 else 1.0
     res["server_util"] = res["server_busy"] / res["makespan"] if res["makespan"] > 0 else 0.0
     res["units_per_s"] = res["units"] / res["makespan"] if res["makespan"] > 0 else 0.0
+    # rank 0's service demand against the ideal makespan: >= 1 means rank 0
+    # alone takes longer than the job would on N * T perfectly used threads
+    res["server_load"] = res["server_busy"] * N / ideal if ideal > 0 else 0.0
     return res
 
 
@@ -426,45 +440,82 @@ def parse_ranks(s):
 
 
 def compare(job, m, args):
-    """Prediction for the measured run's rank count next to what it measured."""
-    with open(args.compare) as f:
-        meas = json.load(f)
-    N = int(meas["ranks"])
-    pr = meas["per_rank"]
+    """Prediction (policy split: the farm as built) for the rank count of
+    the measured runs (repeats of one configuration), next to what they
+    measured: per rank units, busy share and rows (mean over the runs, with
+    the range), rank 0's message count and the load imbalance."""
+    runs = []
+    for path in args.compare:
+        with open(path) as f:
+            runs.append(json.load(f))
+    N = int(runs[0]["ranks"])
+    if any(int(x["ranks"]) != N for x in runs):
+        raise SystemExit("simulate_scaling: --compare runs differ in rank count")
     res = simulate(job, N, m, "split")
-    mu = [float(x["units"]) for x in pr]
-    mb = [float(x["busy_seconds"]) for x in pr]
-    mr = [float(x["rows"]) for x in pr]
-    tu = None
-    if args.compare_trace:
-        tu = [0] * N
-        for e in load_trace(args.compare_trace):
-            tu[e["rank"]] += 1
     pu, pb, prow = res["per_rank_units"], res["per_rank_busy"], res["per_rank_rows"]
-    smb, spb = sum(mb) or 1.0, sum(pb) or 1.0
-    print("== %s ==" % (args.label or args.compare))
-    print("%5s %11s %11s %11s %11s %10s %10s" % ("rank", "units meas", "units pred", "busy% meas", "busy% pred",
-                                                "rows meas", "rows pred"))
+    spb = sum(pb) or 1.0
+
+    def per_run(x):
+        pr = sorted(x["per_rank"], key=lambda r: r["rank"])
+        u = [float(r["units"]) for r in pr]
+        b = [float(r["busy_seconds"]) for r in pr]
+        sb = sum(b) or 1.0
+        return {"units": u, "share": [100 * v / sb for v in b], "rows": [float(r["rows"]) for r in pr],
+                "messages": (N - 1) + sum(u[1:]) if N > 1 else 0, "imbalance": max(b) / (sb / N),
+                "wall": float(x.get("render_seconds", 0))}
+
+    meas = [per_run(x) for x in runs]
+    mean = lambda xs: sum(xs) / len(xs)
+
+    def cell(key, r, fmt):
+        vals = [x[key][r] for x in meas]
+        if len(vals) == 1:
+            return fmt % vals[0]
+        return (fmt % mean(vals)) + (" [" + fmt + "-" + fmt + "]") % (min(vals), max(vals))
+
+    trace_ok = None
+    if args.compare_trace:
+        trace_ok = True
+        for path, x in zip(args.compare_trace, meas):
+            tu = [0.0] * N
+            for e in load_trace(path):
+                tu[e["rank"]] += 1
+            trace_ok &= tu == x["units"]
+    n = len(meas)
+    print("== %s: %d run%s measured (mean [min-max]) vs predicted ==" % (args.label or args.compare[0], n,
+                                                                        "s" if n > 1 else ""))
+    print("%5s %19s %6s %19s %6s %19s %7s" % ("rank", "units measured", "pred", "busy% measured", "pred",
+                                             "rows measured", "pred"))
     for r in range(N):
-        print("%5d %11d %11d %11.1f %11.1f %10.1f %10.1f" % (r, mu[r], pu[r], 100 * mb[r] / smb, 100 * pb[r] / spb,
-                                                            mr[r], prow[r]))
-    msg_meas = (N - 1) + sum(mu[1:]) if N > 1 else 0
-    msg_pred = res["messages"]
-    print("%5s %11d %11d %11.1f %11.1f %10.1f %10.1f" % ("sum", sum(mu), sum(pu), 100.0, 100.0, sum(mr), sum(prow)))
-    imb_m = max(mb) / (smb / N)
-    imb_p = max(pb) / (spb / N)
-    print("units handed out by messages (ranks 1..%d): measured %d, predicted %d" % (N - 1, sum(mu[1:]),
-                                                                                    sum(pu[1:])))
-    print("messages rank 0 received (hellos + results): measured %d, predicted %d" % (msg_meas, msg_pred))
-    print("load imbalance (max busy / mean busy): measured %.3f, predicted %.3f" % (imb_m, imb_p))
-    if tu is not None:
-        print("trace check: units per rank in the trace %s the stats" %
-              ("match" if [float(x) for x in tu] == mu else "DIFFER from (%s)" % tu))
-    print("render wall (not validated: oversubscribed): measured %.2f s, predicted %.2f s" %
-          (float(meas.get("render_seconds", 0)), res["makespan"]))
+        print("%5d %19s %6d %19s %6.1f %19s %7.1f" % (r, cell("units", r, "%.0f"), pu[r], cell("share", r, "%.1f"),
+                                                      100 * pb[r] / spb, cell("rows", r, "%.0f"), prow[r]))
+    tot = [sum(x["units"]) for x in meas]
+    print("%5s %19s %6d" % ("sum", "%.0f" % mean(tot) if min(tot) == max(tot) else "%.0f-%.0f" % (min(tot), max(tot)),
+                            sum(pu)))
+    msg = [x["messages"] for x in meas]
+    imb = [x["imbalance"] for x in meas]
+    print("messages rank 0 received (hellos + results): measured %.0f [%.0f-%.0f], predicted %d"
+          % (mean(msg), min(msg), max(msg), res["messages"]))
+    print("load imbalance (max busy / mean busy): measured %.3f [%.3f-%.3f], predicted %.3f"
+          % (mean(imb), min(imb), max(imb), max(pb) / (spb / N)))
+    if trace_ok is not None:
+        print("trace check: units per rank in the traces %s the stats" % ("match" if trace_ok else "DIFFER from"))
+    print("render wall (not validated here: ranks share 2 cores): measured %.2f s, predicted %.2f s"
+          % (mean([x["wall"] for x in meas]), res["makespan"]))
     print()
-    return {"ranks": N, "measured": {"units": mu, "busy": mb, "rows": mr, "messages": msg_meas},
-            "predicted": {"units": pu, "busy": pb, "rows": prow, "messages": msg_pred}}
+    row = {"label": args.label, "ranks": N, "runs": n, "units_total_measured": tot,
+           "units_total_predicted": sum(pu),
+           "rank0_units_measured": mean([x["units"][0] for x in meas]), "rank0_units_predicted": pu[0],
+           "worker_units_measured": mean([mean(x["units"][1:]) for x in meas]) if N > 1 else 0.0,
+           "worker_units_predicted": mean(pu[1:]) if N > 1 else 0.0,
+           "rank0_share_measured": mean([x["share"][0] for x in meas]), "rank0_share_predicted": 100 * pb[0] / spb,
+           "messages_measured": mean(msg), "messages_predicted": res["messages"],
+           "imbalance_measured": mean(imb), "imbalance_predicted": max(pb) / (spb / N),
+           "trace_matches_stats": trace_ok}
+    if args.summary:
+        with open(args.summary, "a") as f:
+            f.write(json.dumps(row) + "\n")
+    return row
 
 
 def main(argv=None):
@@ -504,11 +555,17 @@ def main(argv=None):
     ap.add_argument("--nap-slack", type=float, default=80e-6, help="timer overshoot per nap, s [80e-6]")
     ap.add_argument("--probe-miss", type=int, default=1,
                     help="polls that miss a message which arrived during a nap (Open MPI ob1: 1) [1]")
+    ap.add_argument("--worker-overhead", type=float, default=0.0,
+                    help="seconds a worker spends between two units outside rendering (message handling; "
+                         "under Open MPI's yield-when-idle on shared cores it is milliseconds) [0]")
     ap.add_argument("--slowdown", type=float, default=1.0, help="unit durations times this (shared cores)")
     ap.add_argument("--per-rank", action="store_true", help="print units and busy share per rank")
-    ap.add_argument("--compare", metavar="STATS.json",
-                    help="print the prediction (policy split, the farm as built) next to this measured run")
-    ap.add_argument("--compare-trace", metavar="TRACE.json", help="the measured run's trace (units per rank)")
+    ap.add_argument("--compare", metavar="STATS.json", nargs="+",
+                    help="print the prediction (policy split, the farm as built) next to these measured runs "
+                         "(repeats of one configuration)")
+    ap.add_argument("--compare-trace", metavar="TRACE.json", nargs="+",
+                    help="the measured runs' traces (checked against their stats)")
+    ap.add_argument("--summary", metavar="FILE", help="append the --compare summary as a JSON line")
     ap.add_argument("--label", default="", help="title of the --compare table")
     ap.add_argument("--json", help="write every result to this file")
     ap.add_argument("-q", "--quiet", action="store_true", help="no table on stdout")
@@ -561,7 +618,7 @@ def main(argv=None):
     m = Model(threads=args.threads, latency=lat, bandwidth=bw, service_msg=smsg, service_byte=sbyte,
               prefetch=args.prefetch, nap_base=args.nap_base, nap_cap=args.nap_cap, nap_slack=args.nap_slack,
               slowdown=args.slowdown, serve_only=args.serve_only, band=args.band,
-              probe_miss=args.probe_miss, passes=args.passes)
+              probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead)
     if args.compare:
         return compare(job, m, args)
     policies = [p.strip() for p in args.policies.split(",") if p.strip()]
@@ -576,7 +633,7 @@ def main(argv=None):
                      "service_msg_s": m.a, "service_byte_s": m.b, "prefetch": m.prefetch,
                      "nap_base_s": m.nap_base, "nap_cap_s": m.nap_cap, "nap_slack_s": m.nap_slack,
                      "slowdown": m.slowdown, "serve_only": m.serve_only, "band": m.band,
-                     "probe_miss": m.probe_miss, "passes": m.passes},
+                     "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead},
            "results": []}
     if not args.quiet:
         bw_s = "inf" if m.B == math.inf else "%.3g GB/s" % (m.B / 1e9)
@@ -615,6 +672,15 @@ def main(argv=None):
                     print("        %-6s units %s" % (p, " ".join("%d" % x for x in row[p]["per_rank_units"])))
                     print("        %-6s busy%% %s" % (p, " ".join("%.1f" % (100 * x / tot)
                                                               for x in row[p]["per_rank_busy"])))
+    if not args.quiet and not args.empty_units:
+        for p in policies:
+            if p == "static":
+                continue
+            over = [row["ranks"] for row in out["results"] if row[p]["server_load"] >= 1.0]
+            half = [row["ranks"] for row in out["results"] if row[p]["server_load"] >= 0.5]
+            print("rank 0 (%s): service demand >= 50%% of the ideal makespan from %s ranks, >= 100%% "
+                  "(rank 0 is the bottleneck) from %s ranks" % (p, half[0] if half else "no tested number of",
+                                                                over[0] if over else "no tested number of"))
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=1)

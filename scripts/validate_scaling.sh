@@ -6,11 +6,15 @@
 #             x prefetch 1, 2, 4 (1-row units of a 1200-wide image), then at
 #             the busiest setting three result sizes (16 x 1, 1200 x 1 and
 #             1200 x 16 pixels); fits service = a + b * bytes -> OUT/serve.json
-#   validate  real jobs at -np 1, 2, 4, 8 (-j 1; oversubscribed past 2 cores)
-#             with --trace/--stats; the -np 1 trace is the cost profile, and
-#             the simulator predicts units and busy share per rank and rank
-#             0's message count, side by side with the measured ones. Two
-#             jobs: 600x400 (row bands) and 400x24 (sample split from -np 4)
+#   validate  real jobs at -np 1, 2, 4, 8 (-j 1; oversubscribed past 2 cores),
+#             3 runs each, with --trace/--stats; the -np 1 trace is the cost
+#             profile, and the simulator predicts units and busy share per
+#             rank and rank 0's message count, side by side with the measured
+#             ones. Two jobs: 600x400 at 16 spp (row bands) and 800x24 at 128
+#             spp (sample split from -np 4); each with Open MPI's
+#             yield-when-idle off ("noyield") and on ("yield", its default
+#             when oversubscribed; the model then gets the workers' measured
+#             seconds per unit in MPI calls)
 #   predict   calibration run 1200x800 at 4 spp, then predicted efficiency
 #             of the three policies for 1200x800 and 3840x2160 at 500 spp,
 #             16 threads per rank, 1 ... 4096 ranks
@@ -18,10 +22,10 @@
 # serve.json, validate.txt, predict-*.txt.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-OUT=$ROOT/build/scaling ROUNDS=2 ONLY="" QUICK=0
+OUT=$ROOT/build/scaling ROUNDS=2 VROUNDS=3 ONLY="" QUICK=0
 while [ $# -gt 0 ]; do
     case $1 in
-    --quick) QUICK=1 ROUNDS=1 ;;
+    --quick) QUICK=1 ROUNDS=1 VROUNDS=1 ;;
     --rounds) ROUNDS=$2; shift ;;
     --out) OUT=$2; shift ;;
     --only) ONLY=$2; shift ;;
@@ -133,25 +137,76 @@ fi
 if want validate; then
     [ -f "$OUT/serve.json" ] || { echo "validate_scaling: run the serve part first (no $OUT/serve.json)" >&2; exit 1; }
     echo
-    echo "== predicted vs measured load balance and messages (-j 1, np > $CORES oversubscribed) =="
+    echo "== predicted vs measured load balance and messages (-j 1, np > $CORES oversubscribed, $VROUNDS runs each) =="
     : >"$OUT/validate.txt"
-    for job in "600 400 16 rows" "400 24 64 split"; do
+    : >"$OUT/validate.jsonl"
+    for job in "600 400 16 rows" "800 24 128 split"; do
         set -- $job
         W=$1 H=$2 S=$3 NAME=$4
         [ $QUICK -eq 0 ] || S=$((S / 2))
         args=(--width "$W" --height "$H" -s "$S" -j 1)
-        for np in 1 2 4 8; do
-            run "$np" "${args[@]}" --trace "$OUT/val-$NAME-np$np.trace.json" --stats "$OUT/val-$NAME-np$np.stats.json" \
-                >"$OUT/val-$NAME-np$np.out"
-        done
-        for np in 2 4 8; do
-            slow=$(awk -v n="$np" -v c="$CORES" 'BEGIN {print (n > c ? n / c : 1)}')
-            $SIM --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
-                --threads 1 --ranks "$np" --network shm --service-json "$OUT/serve.json" --slowdown "$slow" \
-                --compare "$OUT/val-$NAME-np$np.stats.json" --compare-trace "$OUT/val-$NAME-np$np.trace.json" \
-                --label "$NAME job ${W}x${H}, $S spp, -np $np -j 1" | tee -a "$OUT/validate.txt"
+        # the cost profile: one rank, one thread, nothing else of ours running
+        run 1 "${args[@]}" --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
+            >"$OUT/val-$NAME-np1.out"
+        # Two ways of sharing 2 cores. Open MPI turns mpi_yield_when_idle on
+        # when it oversubscribes: every MPI progress call that finds nothing
+        # gives the core away, so a worker loses milliseconds per unit in its
+        # message loop (its "comm" seconds) while rank 0's render thread,
+        # which makes no MPI calls, keeps rendering. "noyield" turns it off,
+        # and the model needs nothing measured from these runs; for "yield"
+        # the model is given the workers' measured comm seconds per unit.
+        for mode in noyield yield; do
+            for np in 2 4 8; do
+                stats=() traces=()
+                for ((r = 1; r <= VROUNDS; r++)); do
+                    base=$OUT/val-$NAME-$mode-np$np-r$r
+                    if [ $mode = noyield ]; then
+                        OMPI_MCA_mpi_yield_when_idle=0 run "$np" "${args[@]}" --trace "$base.trace.json" \
+                            --stats "$base.stats.json" >"$base.out"
+                    else
+                        run "$np" "${args[@]}" --trace "$base.trace.json" --stats "$base.stats.json" >"$base.out"
+                    fi
+                    stats+=("$base.stats.json") traces+=("$base.trace.json")
+                done
+                slow=$(awk -v n="$np" -v c="$CORES" 'BEGIN {print (n > c ? n / c : 1)}')
+                ovh=0
+                if [ $mode = yield ]; then
+                    ovh=$($PY -c '
+import json, sys
+c = u = 0.0
+for f in sys.argv[1:]:
+    for r in json.load(open(f))["per_rank"][1:]:
+        c += r["comm_seconds"]
+        u += r["units"]
+print("%.6g" % (c / u if u else 0))' "${stats[@]}")
+                fi
+                $SIM --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
+                    --threads 1 --ranks "$np" --network shm --service-json "$OUT/serve.json" --slowdown "$slow" \
+                    --worker-overhead "$ovh" --compare "${stats[@]}" --compare-trace "${traces[@]}" \
+                    --summary "$OUT/validate.jsonl" \
+                    --label "$NAME job ${W}x${H}, $S spp, $mode, -np $np -j 1 (worker overhead $ovh s/unit)" |
+                    tee -a "$OUT/validate.txt"
+            done
         done
     done
+    echo "== summary: measured (mean of $VROUNDS runs) / predicted ==" | tee -a "$OUT/validate.txt"
+    $PY - "$OUT/validate.jsonl" <<'EOF' | tee -a "$OUT/validate.txt"
+import json, sys
+rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
+print("| job | mode | np | units (all runs) | rank 0 units | units per worker | rank 0 busy share | "
+      "messages to rank 0 | max/mean busy |")
+print("|---|---|---|---|---|---|---|---|---|")
+for r in rows:
+    tot = r["units_total_measured"]
+    same = all(t == r["units_total_predicted"] for t in tot)
+    parts = [x.strip() for x in r["label"].split(",")]
+    print("| %s | %s | %d | %s | %.1f / %d | %.1f / %.1f | %.1f%% / %.1f%% | %.1f / %d | %.3f / %.3f |" % (
+        parts[0] + ", " + parts[1], parts[2], r["ranks"],
+        ("%d = %d" % (tot[0], r["units_total_predicted"])) if same else ("%s / %d" % (tot, r["units_total_predicted"])),
+        r["rank0_units_measured"], r["rank0_units_predicted"], r["worker_units_measured"], r["worker_units_predicted"],
+        r["rank0_share_measured"], r["rank0_share_predicted"], r["messages_measured"], r["messages_predicted"],
+        r["imbalance_measured"], r["imbalance_predicted"]))
+EOF
 fi
 
 # ---- predictions at scale -------------------------------------------------------
