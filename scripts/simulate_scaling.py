@@ -648,9 +648,10 @@ def main(argv=None):
                  m.nap_slack * 1e6, m.probe_miss, ", serve-only" if m.serve_only else "",
                  ", slowdown %.3g" % m.slowdown if m.slowdown != 1 else ""))
         hdr = "%7s" % "ranks" + "".join("%9s" % (("u/s " if args.empty_units else "E ") + p) for p in policies)
+        hdr += "".join("%9s" % ("T " + p) for p in policies)
         hdr += "".join("%9s" % ("units " + p[:2]) for p in policies if p != "static")
         hdr += "".join("%9s" % ("r0 " + p[:2]) for p in policies if p != "static")
-        hdr += "%11s" % "makespan"
+        print("E: parallel efficiency; T: makespan (s); units: work units; r0: rank 0's server busy share")
         print(hdr)
     for N in args.ranks:
         row = {"ranks": N}
@@ -662,9 +663,9 @@ def main(argv=None):
                 line = "%7d" % N + "".join("%9.0f" % row[p]["units_per_s"] for p in policies)
             else:
                 line = "%7d" % N + "".join("%9.3f" % row[p]["efficiency"] for p in policies)
+            line += "".join("%9.3g" % row[p]["makespan"] for p in policies)
             line += "".join("%9d" % row[p]["units"] for p in policies if p != "static")
             line += "".join("%8.1f%%" % (100 * row[p]["server_util"]) for p in policies if p != "static")
-            line += "%10.3gs" % min(row[p]["makespan"] for p in policies)
             print(line)
             if args.per_rank:
                 for p in policies:
