@@ -1,0 +1,692 @@
+#!/usr/bin/python3
+"""simulate_scaling.py - predicts how rt-mpi scales, by replaying measured
+work-unit costs on N ranks x T threads in a deterministic discrete-event
+simulation of the farm (src/farm.c) and its schedule (src/schedule.c).
+
+  simulate_scaling.py --trace TRACE.json [--stats STATS.json]
+                      [--width W --height H --samples S] [--threads T]
+                      [--ranks 1,2,4,...] [--network ib|eth|shm]
+                      [--service-json SERVE.json] [--json OUT.json]
+
+Cost model. Every unit of the trace gives a cost density: its duration times
+the threads of the traced run, per pixel-sample (thread-seconds). Averaged
+per row, this is a cost profile over the image height; a simulated job of
+another size maps its rows onto that profile (by relative height, integrating
+the piecewise-constant profile) and scales by its width and sample count. A
+unit of rows [y0,y1) x samples [s0,s1) on a rank with T threads takes
+cost/T seconds (perfect OpenMP scaling inside a rank: the pixels of a unit
+are spread over the threads in chunks of 8), times --slowdown (ranks that
+share cores, as in an oversubscribed test run).
+
+Machine model (every number is an option; see docs/SCALING.md):
+  - each message takes --latency seconds from sender to receiver;
+  - rank 0 handles one message at a time (one MPI thread, blocking receive):
+    a result of B bytes (rows*width*3*8 + 32) occupies it for
+    service_msg + B*service_byte + B/bandwidth seconds, a request (hello)
+    for service_msg per unit it hands out; the reply (the next unit, or
+    done) leaves when that ends;
+  - an idle rank 0 or waiting worker polls with the farm's back-off: naps of
+    50 us doubling to 1 ms (--nap-base, --nap-cap) plus the timer's
+    overshoot (--nap-slack), and notices a message at the first poll after
+    it arrived; a rendering worker takes its queued units without delay;
+  - workers keep --prefetch units in flight: a hello asks for that many,
+    each result is the request for one more;
+  - rank 0 also renders with its own thread from the same queue, without
+    messages (unless --serve-only).
+
+Policies:
+  static  each rank renders one contiguous block of rows (H*r/N ..), then
+          sends it to rank 0, which receives the blocks after its own;
+  bands   the farm with the schedule of src/schedule.c but no sample split
+          (guided row bands, 16 rows at most, towards ranks*8 units);
+  split   the farm exactly as src/schedule.c does it: when rows are fewer
+          than ranks*8, bands are split into sample ranges.
+
+Parallel efficiency = total cost / (N * T * makespan), the makespan ending
+when rank 0 holds every result. Everything is deterministic: the same input
+gives the same numbers.
+"""
+import argparse
+import heapq
+import json
+import math
+import sys
+from collections import deque
+
+HDR_BYTES = 4 * 8  # result header: unit, segments, start, end (int64)
+
+NETWORKS = {
+    # latency (s), bandwidth (bytes/s)
+    "ib": (2e-6, 12.5e9),   # InfiniBand-class: ~2 us MPI latency, 100 Gb/s
+    "eth": (50e-6, 1.25e9),  # 10 Gb Ethernet with TCP: ~50 us, 10 Gb/s
+    "shm": (1e-6, math.inf),  # one node, shared memory: copies are in service_byte
+}
+
+
+# ---- input ---------------------------------------------------------------
+
+def load_trace(path):
+    """Unit events of an rt-mpi --trace file: list of dicts."""
+    with open(path) as f:
+        doc = json.load(f)
+    evs = doc["traceEvents"] if isinstance(doc, dict) else doc
+    out = []
+    for e in evs:
+        if e.get("ph") != "X":
+            continue
+        a = e.get("args", {})
+        out.append({"rank": int(e["pid"]), "ts": float(e["ts"]) * 1e-6, "dur": float(e["dur"]) * 1e-6,
+                    "unit": int(a.get("unit", len(out))), "y0": int(a["y0"]), "y1": int(a["y1"]),
+                    "s0": int(a["s0"]), "s1": int(a["s1"])})
+    if not out:
+        raise SystemExit("simulate_scaling: %s has no unit events (ph X)" % path)
+    return out
+
+
+def cost_profile(events, width, threads, height=None):
+    """Cost per pixel-sample (thread-seconds) of every traced row."""
+    H = height or max(e["y1"] for e in events)
+    num = [0.0] * H
+    den = [0.0] * H
+    for e in events:
+        rs = (e["y1"] - e["y0"]) * (e["s1"] - e["s0"])
+        if rs <= 0:
+            continue
+        d = e["dur"] * threads / (rs * width)
+        w = e["s1"] - e["s0"]
+        for y in range(e["y0"], min(e["y1"], H)):
+            num[y] += d * w
+            den[y] += w
+    known = [num[y] / den[y] for y in range(H) if den[y] > 0]
+    mean = sum(known) / len(known)
+    return [num[y] / den[y] if den[y] > 0 else mean for y in range(H)]
+
+
+class Job:
+    """A job of W x H pixels x S samples with row costs from a profile."""
+
+    def __init__(self, profile, width, height, samples):
+        self.W, self.H, self.S = width, height, samples
+        Hm = len(profile)
+        cum = [0.0]
+        for p in profile:
+            cum.append(cum[-1] + p)
+
+        def F(x):  # integral of the piecewise-constant profile over [0, x)
+            if x >= Hm:
+                return cum[Hm]
+            i = int(x)
+            return cum[i] + (x - i) * profile[i]
+
+        # R[y]: cost of rows [0, y) for one sample of every pixel
+        self.R = [0.0] * (height + 1)
+        for y in range(height):
+            # mean cost per pixel-sample over the profile rows this row covers
+            row = width * (height / Hm) * (F((y + 1) * Hm / height) - F(y * Hm / height))
+            self.R[y + 1] = self.R[y] + row
+        self.total = self.R[height] * samples
+
+    def cost(self, u):
+        y0, y1, s0, s1 = u
+        return (self.R[y1] - self.R[y0]) * (s1 - s0)
+
+    def payload(self, u):
+        return (u[1] - u[0]) * self.W * 3 * 8 + HDR_BYTES
+
+
+# ---- the schedule of src/schedule.c ----------------------------------------
+
+def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samples=1, split=True, passes=1):
+    """The units rt_sched_init builds (nothing committed yet), in hand-out
+    order: pass by pass, in each pass guided row bands in row order, each
+    band split into `splits` sample ranges when rows are fewer than
+    ranks * per_rank (split=False: never, the "bands" policy)."""
+    passes = max(1, min(passes, samples))
+    todo = height
+    mb = band if band else (max_band if max_band else 16)
+    want = ranks * per_rank
+    splits = 1
+    pass_len = samples // passes
+    if split and 0 < todo < want:
+        k = (want + todo - 1) // todo
+        kmax = max(pass_len // min_samples, 1)
+        splits = min(k, kmax)
+    bands = []
+    y, remaining = 0, todo
+    while y < height:
+        rows = mb
+        if not band:
+            g = remaining // (2 * want // splits + 1)
+            rows = 1 if g < 1 else min(g, mb)
+        y1 = min(y + rows, height)
+        bands.append((y, y1))
+        remaining -= y1 - y
+        y = y1
+    units = []
+    for k in range(passes):
+        p0 = samples * k // passes
+        p1 = samples * (k + 1) // passes
+        for y0, y1 in bands:
+            for j in range(splits):
+                s0 = p0 + (p1 - p0) * j // splits
+                s1 = p0 + (p1 - p0) * (j + 1) // splits
+                if s1 > s0:
+                    units.append((y0, y1, s0, s1))
+    return units
+
+
+# ---- the model -------------------------------------------------------------
+
+class Model:
+    def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
+                 prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
+                 band=0, probe_miss=1, passes=1, worker_overhead=0.0):
+        self.T = threads
+        self.L = latency
+        self.B = bandwidth
+        self.a = service_msg
+        self.b = service_byte
+        self.prefetch = max(1, prefetch)
+        self.nap_base, self.nap_cap, self.nap_slack = nap_base, nap_cap, nap_slack
+        self.slowdown = slowdown
+        self.serve_only = serve_only
+        self.band = band
+        self.probe_miss = probe_miss
+        self.passes = passes
+        self.worker_overhead = worker_overhead
+
+    def result_service(self, nbytes):
+        return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
+
+    def nap(self, i):
+        """Length of the i-th nap of an idle loop (0-based), overshoot included."""
+        return min(self.nap_base * (1 << min(i, 5)), self.nap_cap) + self.nap_slack
+
+    def next_poll(self, since, t):
+        """When a loop idle since `since` notices a message that arrived at t.
+        It polls at `since`, then after naps of base, 2*base, ... capped at
+        cap (each plus the timer overshoot); the message is seen at the
+        first poll at or after t, or --probe-miss polls later (Open MPI's
+        ob1 MPI_Iprobe returns false on the call whose progress pulls the
+        message in, so it is seen one poll late)."""
+        if t <= since:
+            return since
+        if self.nap_base <= 0 and self.nap_slack <= 0:
+            return t
+        p, i = since, 0
+        while p < t:
+            if i >= 6:  # the naps are all nap(6) from here on
+                step = self.nap(6)
+                k = max(math.ceil((t - p) / step - 1e-12), 1)
+                p += k * step
+                i += k
+                break
+            p += self.nap(i)
+            i += 1
+        for _ in range(self.probe_miss):
+            p += self.nap(i)
+            i += 1
+        return p
+
+
+def simulate_static(job, N, m):
+    """Contiguous row blocks, no balancing; rank 0 then receives the blocks."""
+    H = job.H
+    busy = [0.0] * N
+    rows = [0] * N
+    arrivals = []
+    for r in range(N):
+        y0, y1 = H * r // N, H * (r + 1) // N
+        rows[r] = y1 - y0
+        if y1 <= y0:
+            continue
+        d = job.cost((y0, y1, 0, job.S)) / m.T * m.slowdown
+        busy[r] = d
+        if r > 0:
+            arrivals.append((d + m.L, r, job.payload((y0, y1, 0, job.S))))
+    t = busy[0]
+    arrivals.sort()
+    service = 0.0
+    for arr, r, nbytes in arrivals:
+        s = m.result_service(nbytes)
+        t = max(t, arr) + s
+        service += s
+    makespan = max(t, max(busy))
+    return {"makespan": makespan, "units": sum(1 for x in rows if x), "messages": len(arrivals),
+            "per_rank_units": [1 if x else 0 for x in rows], "per_rank_busy": busy,
+            "per_rank_rows": [float(x) for x in rows], "server_busy": service}
+
+
+def simulate_farm(job, N, m, split=True):
+    """The rt-mpi farm: discrete-event simulation of rank 0's server, its
+    render thread and N-1 workers."""
+    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes)
+    cost = [job.cost(u) / m.T * m.slowdown for u in units]
+    nbytes = [job.payload(u) for u in units]
+    n = len(units)
+    nxt = 0
+    per_units = [0] * N
+    per_busy = [0.0] * N
+    per_rows = [0.0] * N
+    done_units = 0
+    makespan = 0.0
+    messages = 0
+    server_busy = 0.0
+
+    events = []
+    seq = 0
+
+    def push(t, kind, who, data=None):
+        nonlocal seq
+        heapq.heappush(events, (t, seq, kind, who, data))
+        seq += 1
+
+    def record(rank, i, t_end):
+        nonlocal done_units, makespan
+        u = units[i]
+        per_units[rank] += 1
+        per_busy[rank] += cost[i]
+        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S
+        done_units += 1
+        makespan = max(makespan, t_end)
+
+    # rank 0's render thread: takes units straight from the queue
+    local = N == 1 or not m.serve_only
+    if local:
+        if nxt < n:
+            push(cost[nxt], "local_end", 0, nxt)
+            nxt += 1
+
+    # workers: queue of units, rendering flag, idle since, outstanding at rank 0
+    wq = [deque() for _ in range(N)]
+    w_busy = [False] * N
+    w_idle = [0.0] * N
+    w_wake = [False] * N
+    outstanding = [0] * N
+
+    # server state
+    inbox = deque()
+    s_idle_since = 0.0
+    s_scheduled = False
+
+    for r in range(1, N):
+        push(m.L, "arrive", 0, ("hello", r, m.prefetch))
+
+    def send_unit(t, r):
+        nonlocal nxt
+        if nxt < n:
+            push(t + m.L, "unit", r, nxt)
+            nxt += 1
+            return True
+        return False
+
+    def worker_start(t, r):
+        i = wq[r].popleft()
+        w_busy[r] = True
+        push(t + cost[i], "w_end", r, i)
+
+    while events:
+        t, _, kind, who, data = heapq.heappop(events)
+        if kind == "local_end":
+            record(0, data, t)
+            if nxt < n:
+                push(t + cost[nxt], "local_end", 0, nxt)
+                nxt += 1
+        elif kind == "arrive":  # a message reaches rank 0
+            inbox.append(data)
+            if not s_scheduled:
+                s_scheduled = True
+                push(m.next_poll(s_idle_since, t), "serve", 0)
+        elif kind == "serve":  # rank 0's server polls
+            if not inbox:
+                s_scheduled = False
+                s_idle_since = t
+                continue
+            msg = inbox.popleft()
+            messages += 1
+            if msg[0] == "hello":
+                _, r, want = msg
+                sent = max(0, min(want, n - nxt))
+                d = m.a * max(sent, 1)
+                server_busy += d
+                t1 = t + d
+                nxt_before = nxt
+                for k in range(sent):
+                    push(t1 + m.L, "unit", r, nxt_before + k)
+                nxt += sent
+                outstanding[r] += sent
+            else:
+                _, r, i = msg
+                d = m.result_service(nbytes[i])
+                server_busy += d
+                t1 = t + d
+                record(r, i, t1)
+                if not send_unit(t1, r):
+                    outstanding[r] -= 1
+            push(t1, "serve", 0)
+        elif kind == "unit":  # a unit reaches worker `who`
+            r = who
+            wq[r].append(data)
+            if not w_busy[r] and not w_wake[r]:
+                w_wake[r] = True
+                push(m.next_poll(w_idle[r], t), "w_poll", r)
+        elif kind == "w_poll":
+            r = who
+            w_wake[r] = False
+            if not w_busy[r] and wq[r]:
+                worker_start(t, r)
+        elif kind == "w_end":
+            r, i = who, data
+            push(t + m.L, "arrive", 0, ("result", r, i))
+            if m.worker_overhead > 0:  # message handling between units
+                push(t + m.worker_overhead, "w_free", r)
+                continue
+            w_busy[r] = False
+            if wq[r]:
+                worker_start(t, r)
+            else:
+                w_idle[r] = t
+        elif kind == "w_free":
+            r = who
+            w_busy[r] = False
+            if wq[r]:
+                worker_start(t, r)
+            else:
+                w_idle[r] = t
+    assert done_units == n, (done_units, n)
+    return {"makespan": makespan, "units": n, "messages": messages, "per_rank_units": per_units,
+            "per_rank_busy": per_busy, "per_rank_rows": per_rows, "server_busy": server_busy}
+
+
+POLICIES = ("static", "bands", "split")
+
+
+def simulate(job, N, m, policy):
+    if policy == "static":
+        res = simulate_static(job, N, m)
+    elif policy == "bands":
+        res = simulate_farm(job, N, m, split=False)
+    elif policy == "split":
+        res = simulate_farm(job, N, m, split=True)
+    else:
+        raise ValueError(policy)
+    ideal = job.total / m.T * m.slowdown
+    res["efficiency"] = ideal / (N * res["makespan"]) if res["makespan"] > 0 else 1.0
+    res["server_util"] = res["server_busy"] / res["makespan"] if res["makespan"] > 0 else 0.0
+    res["units_per_s"] = res["units"] / res["makespan"] if res["makespan"] > 0 else 0.0
+    # rank 0's service demand against the ideal makespan: >= 1 means rank 0
+    # alone takes longer than the job would on N * T perfectly used threads
+    res["server_load"] = res["server_busy"] * N / ideal if ideal > 0 else 0.0
+    return res
+
+
+# ---- command line ----------------------------------------------------------
+
+def parse_ranks(s):
+    out = []
+    for part in s.split(","):
+        part = part.strip()
+        if "-" in part:  # 1-4096: powers of two
+            lo, hi = (int(x) for x in part.split("-"))
+            v = lo
+            while v <= hi:
+                out.append(v)
+                v *= 2
+        elif part:
+            out.append(int(part))
+    if not out or min(out) < 1:
+        raise argparse.ArgumentTypeError("ranks must be positive")
+    return out
+
+
+def compare(job, m, args):
+    """Prediction (policy split: the farm as built) for the rank count of
+    the measured runs (repeats of one configuration), next to what they
+    measured: per rank units, busy share and rows (mean over the runs, with
+    the range), rank 0's message count and the load imbalance."""
+    runs = []
+    for path in args.compare:
+        with open(path) as f:
+            runs.append(json.load(f))
+    N = int(runs[0]["ranks"])
+    if any(int(x["ranks"]) != N for x in runs):
+        raise SystemExit("simulate_scaling: --compare runs differ in rank count")
+    res = simulate(job, N, m, "split")
+    pu, pb, prow = res["per_rank_units"], res["per_rank_busy"], res["per_rank_rows"]
+    spb = sum(pb) or 1.0
+
+    def per_run(x):
+        pr = sorted(x["per_rank"], key=lambda r: r["rank"])
+        u = [float(r["units"]) for r in pr]
+        b = [float(r["busy_seconds"]) for r in pr]
+        sb = sum(b) or 1.0
+        return {"units": u, "share": [100 * v / sb for v in b], "rows": [float(r["rows"]) for r in pr],
+                "messages": (N - 1) + sum(u[1:]) if N > 1 else 0, "imbalance": max(b) / (sb / N),
+                "wall": float(x.get("render_seconds", 0))}
+
+    meas = [per_run(x) for x in runs]
+    mean = lambda xs: sum(xs) / len(xs)
+
+    def cell(key, r, fmt):
+        vals = [x[key][r] for x in meas]
+        if len(vals) == 1:
+            return fmt % vals[0]
+        return (fmt % mean(vals)) + (" [" + fmt + "-" + fmt + "]") % (min(vals), max(vals))
+
+    trace_ok = None
+    if args.compare_trace:
+        trace_ok = True
+        for path, x in zip(args.compare_trace, meas):
+            tu = [0.0] * N
+            for e in load_trace(path):
+                tu[e["rank"]] += 1
+            trace_ok &= tu == x["units"]
+    n = len(meas)
+    print("== %s: %d run%s measured (mean [min-max]) vs predicted ==" % (args.label or args.compare[0], n,
+                                                                        "s" if n > 1 else ""))
+    print("%5s %19s %6s %19s %6s %19s %7s" % ("rank", "units measured", "pred", "busy% measured", "pred",
+                                             "rows measured", "pred"))
+    for r in range(N):
+        print("%5d %19s %6d %19s %6.1f %19s %7.1f" % (r, cell("units", r, "%.0f"), pu[r], cell("share", r, "%.1f"),
+                                                      100 * pb[r] / spb, cell("rows", r, "%.0f"), prow[r]))
+    tot = [sum(x["units"]) for x in meas]
+    print("%5s %19s %6d" % ("sum", "%.0f" % mean(tot) if min(tot) == max(tot) else "%.0f-%.0f" % (min(tot), max(tot)),
+                            sum(pu)))
+    msg = [x["messages"] for x in meas]
+    imb = [x["imbalance"] for x in meas]
+    print("messages rank 0 received (hellos + results): measured %.0f [%.0f-%.0f], predicted %d"
+          % (mean(msg), min(msg), max(msg), res["messages"]))
+    print("load imbalance (max busy / mean busy): measured %.3f [%.3f-%.3f], predicted %.3f"
+          % (mean(imb), min(imb), max(imb), max(pb) / (spb / N)))
+    if trace_ok is not None:
+        print("trace check: units per rank in the traces %s the stats" % ("match" if trace_ok else "DIFFER from"))
+    print("render wall (not validated here: ranks share 2 cores): measured %.2f s, predicted %.2f s"
+          % (mean([x["wall"] for x in meas]), res["makespan"]))
+    print()
+    row = {"label": args.label, "ranks": N, "runs": n, "units_total_measured": tot,
+           "units_total_predicted": sum(pu),
+           "rank0_units_measured": mean([x["units"][0] for x in meas]), "rank0_units_predicted": pu[0],
+           "worker_units_measured": mean([mean(x["units"][1:]) for x in meas]) if N > 1 else 0.0,
+           "worker_units_predicted": mean(pu[1:]) if N > 1 else 0.0,
+           "rank0_share_measured": mean([x["share"][0] for x in meas]), "rank0_share_predicted": 100 * pb[0] / spb,
+           "messages_measured": mean(msg), "messages_predicted": res["messages"],
+           "imbalance_measured": mean(imb), "imbalance_predicted": max(pb) / (spb / N),
+           "trace_matches_stats": trace_ok}
+    if args.summary:
+        with open(args.summary, "a") as f:
+            f.write(json.dumps(row) + "\n")
+    return row
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--trace", help="rt-mpi --trace file of a real run (unit costs)")
+    ap.add_argument("--empty-units", action="store_true",
+                    help="units cost nothing (as rt-mpi --empty-units): the farm's own rate; needs --width, "
+                         "--height, --samples instead of a trace")
+    ap.add_argument("--stats", help="rt-mpi --stats file of the same run (width, threads)")
+    ap.add_argument("--trace-width", type=int, help="width of the traced run (else from --stats)")
+    ap.add_argument("--trace-threads", type=int, help="threads per rank of the traced run (else from --stats)")
+    ap.add_argument("--trace-slowdown", type=float, default=1.0,
+                    help="divide traced durations by this (the traced run shared its cores)")
+    ap.add_argument("--width", type=int, help="simulated job width (default: the traced one)")
+    ap.add_argument("--height", type=int, help="simulated job height (default: the traced one)")
+    ap.add_argument("--samples", type=int, help="simulated samples per pixel (default: the traced one)")
+    ap.add_argument("--threads", type=int, default=16, help="threads per rank [16]")
+    ap.add_argument("--ranks", type=parse_ranks, default=parse_ranks("1-4096"),
+                    help="list, or LO-HI for the powers of two between [1-4096]")
+    ap.add_argument("--policies", default=",".join(POLICIES), help="static,bands,split")
+    ap.add_argument("--network", choices=sorted(NETWORKS), default="ib",
+                    help="latency/bandwidth preset: ib (2 us, 12.5 GB/s), eth (50 us, 1.25 GB/s), "
+                         "shm (1 us, copies in service) [ib]")
+    ap.add_argument("--latency", type=float, help="one-way message latency, s (overrides --network)")
+    ap.add_argument("--bandwidth", type=float, help="rank 0 ingress bandwidth, bytes/s (overrides --network)")
+    ap.add_argument("--service-json", help="rank 0 service time fitted by validate_scaling.sh "
+                                           "(service_msg_s, service_byte_s)")
+    ap.add_argument("--service-msg", type=float, help="rank 0 seconds per message (default 20e-6)")
+    ap.add_argument("--service-byte", type=float, help="rank 0 seconds per result byte (default 0)")
+    ap.add_argument("--prefetch", type=int, default=2, help="units in flight per worker [2]")
+    ap.add_argument("--band", type=int, default=0, help="fixed rows per unit as --band (0: guided) [0]")
+    ap.add_argument("--passes", type=int, default=1, help="progressive passes as rt-mpi --passes [1]")
+    ap.add_argument("--serve-only", action="store_true", help="rank 0 does not render")
+    ap.add_argument("--nap-base", type=float, default=50e-6, help="first poll back-off nap, s [50e-6]")
+    ap.add_argument("--nap-cap", type=float, default=1e-3, help="longest nap, s [1e-3]")
+    ap.add_argument("--nap-slack", type=float, default=80e-6, help="timer overshoot per nap, s [80e-6]")
+    ap.add_argument("--probe-miss", type=int, default=1,
+                    help="polls that miss a message which arrived during a nap (Open MPI ob1: 1) [1]")
+    ap.add_argument("--worker-overhead", type=float, default=0.0,
+                    help="seconds a worker spends between two units outside rendering (message handling; "
+                         "under Open MPI's yield-when-idle on shared cores it is milliseconds) [0]")
+    ap.add_argument("--slowdown", type=float, default=1.0, help="unit durations times this (shared cores)")
+    ap.add_argument("--per-rank", action="store_true", help="print units and busy share per rank")
+    ap.add_argument("--compare", metavar="STATS.json", nargs="+",
+                    help="print the prediction (policy split, the farm as built) next to these measured runs "
+                         "(repeats of one configuration)")
+    ap.add_argument("--compare-trace", metavar="TRACE.json", nargs="+",
+                    help="the measured runs' traces (checked against their stats)")
+    ap.add_argument("--summary", metavar="FILE", help="append the --compare summary as a JSON line")
+    ap.add_argument("--label", default="", help="title of the --compare table")
+    ap.add_argument("--json", help="write every result to this file")
+    ap.add_argument("-q", "--quiet", action="store_true", help="no table on stdout")
+    args = ap.parse_args(argv)
+
+    if args.empty_units:
+        if not (args.width and args.height and args.samples):
+            ap.error("--empty-units needs --width, --height and --samples")
+        args.trace, args.trace_width, args.trace_threads = None, args.width, 1
+    elif not args.trace:
+        ap.error("need --trace (or --empty-units)")
+    stats = {}
+    if args.stats:
+        with open(args.stats) as f:
+            stats = json.load(f)
+    tw = args.trace_width or stats.get("width")
+    tt = args.trace_threads or stats.get("threads_per_rank")
+    if not tw or not tt:
+        ap.error("need --stats, or --trace-width and --trace-threads")
+    if args.empty_units:
+        events = []
+        th, ts = args.height, args.samples
+        profile = [0.0] * th
+    else:
+        events = load_trace(args.trace)
+        for e in events:
+            e["dur"] /= args.trace_slowdown
+        th = stats.get("height") or max(e["y1"] for e in events)
+        ts = stats.get("samples") or max(e["s1"] for e in events)
+        profile = cost_profile(events, tw, tt, th)
+    W = args.width or tw
+    H = args.height or th
+    S = args.samples or ts
+    job = Job(profile, W, H, S)
+
+    lat, bw = NETWORKS[args.network]
+    if args.latency is not None:
+        lat = args.latency
+    if args.bandwidth is not None:
+        bw = args.bandwidth if args.bandwidth > 0 else math.inf
+    smsg, sbyte = 20e-6, 0.0
+    if args.service_json:
+        with open(args.service_json) as f:
+            sj = json.load(f)
+        smsg, sbyte = sj["service_msg_s"], sj["service_byte_s"]
+    if args.service_msg is not None:
+        smsg = args.service_msg
+    if args.service_byte is not None:
+        sbyte = args.service_byte
+    m = Model(threads=args.threads, latency=lat, bandwidth=bw, service_msg=smsg, service_byte=sbyte,
+              prefetch=args.prefetch, nap_base=args.nap_base, nap_cap=args.nap_cap, nap_slack=args.nap_slack,
+              slowdown=args.slowdown, serve_only=args.serve_only, band=args.band,
+              probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead)
+    if args.compare:
+        return compare(job, m, args)
+    policies = [p.strip() for p in args.policies.split(",") if p.strip()]
+    for p in policies:
+        if p not in POLICIES:
+            ap.error("unknown policy %r (static, bands, split)" % p)
+
+    out = {"job": {"width": W, "height": H, "samples": S, "cost_thread_seconds": job.total},
+           "trace": {"file": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
+                     "units": len(events)},
+           "model": {"threads": m.T, "latency_s": m.L, "bandwidth_Bps": None if m.B == math.inf else m.B,
+                     "service_msg_s": m.a, "service_byte_s": m.b, "prefetch": m.prefetch,
+                     "nap_base_s": m.nap_base, "nap_cap_s": m.nap_cap, "nap_slack_s": m.nap_slack,
+                     "slowdown": m.slowdown, "serve_only": m.serve_only, "band": m.band,
+                     "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead},
+           "results": []}
+    if not args.quiet:
+        bw_s = "inf" if m.B == math.inf else "%.3g GB/s" % (m.B / 1e9)
+        if args.empty_units:
+            print("job %dx%d, %d spp, empty units (no rendering: the farm's own rate)" % (W, H, S))
+        else:
+            print("job %dx%d, %d spp: %.1f thread-seconds (profile from %s: %dx%d, %d spp, %d thread%s, %d units)"
+                  % (W, H, S, job.total, args.trace, tw, th, ts, tt, "s" if tt > 1 else "", len(events)))
+        print("model: %d threads/rank, latency %.3g us, bandwidth %s, rank 0 service %.3g us/msg + %.3g ns/byte, "
+              "prefetch %d, naps %.0f us..%.0f us +%.0f us, probe miss %d%s%s"
+              % (m.T, m.L * 1e6, bw_s, m.a * 1e6, m.b * 1e9, m.prefetch, m.nap_base * 1e6, m.nap_cap * 1e6,
+                 m.nap_slack * 1e6, m.probe_miss, ", serve-only" if m.serve_only else "",
+                 ", slowdown %.3g" % m.slowdown if m.slowdown != 1 else ""))
+        hdr = "%7s" % "ranks" + "".join("%9s" % (("u/s " if args.empty_units else "E ") + p) for p in policies)
+        hdr += "".join("%9s" % ("T " + p) for p in policies)
+        hdr += "".join("%9s" % ("units " + p[:2]) for p in policies if p != "static")
+        hdr += "".join("%9s" % ("r0 " + p[:2]) for p in policies if p != "static")
+        print("E: parallel efficiency; T: makespan (s); units: work units; r0: rank 0's server busy share")
+        print(hdr)
+    for N in args.ranks:
+        row = {"ranks": N}
+        for p in policies:
+            row[p] = simulate(job, N, m, p)
+        out["results"].append(row)
+        if not args.quiet:
+            if args.empty_units:
+                line = "%7d" % N + "".join("%9.0f" % row[p]["units_per_s"] for p in policies)
+            else:
+                line = "%7d" % N + "".join("%9.3f" % row[p]["efficiency"] for p in policies)
+            line += "".join("%9.3g" % row[p]["makespan"] for p in policies)
+            line += "".join("%9d" % row[p]["units"] for p in policies if p != "static")
+            line += "".join("%8.1f%%" % (100 * row[p]["server_util"]) for p in policies if p != "static")
+            print(line)
+            if args.per_rank:
+                for p in policies:
+                    tot = sum(row[p]["per_rank_busy"]) or 1.0
+                    print("        %-6s units %s" % (p, " ".join("%d" % x for x in row[p]["per_rank_units"])))
+                    print("        %-6s busy%% %s" % (p, " ".join("%.1f" % (100 * x / tot)
+                                                              for x in row[p]["per_rank_busy"])))
+    if not args.quiet and not args.empty_units:
+        for p in policies:
+            if p == "static":
+                continue
+            over = [row["ranks"] for row in out["results"] if row[p]["server_load"] >= 1.0]
+            half = [row["ranks"] for row in out["results"] if row[p]["server_load"] >= 0.5]
+            print("rank 0 (%s): service demand >= 50%% of the ideal makespan from %s ranks, >= 100%% "
+                  "(rank 0 is the bottleneck) from %s ranks" % (p, half[0] if half else "no tested number of",
+                                                                over[0] if over else "no tested number of"))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(out, f, indent=1)
+    return out
+
+
+if __name__ == "__main__":
+    main()
