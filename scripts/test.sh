@@ -6,8 +6,9 @@
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # What the tests need beyond the build: a real single-node Slurm, valgrind,
-# python3 for JSON checks (the container test installs podman itself).
-export RT_EXTRA_PACKAGES="${RT_EXTRA_PACKAGES:-} slurm-wlm munge valgrind python3"
+# python3 for JSON checks and the scaling scripts, matplotlib for trace plots
+# (the container test installs podman itself).
+export RT_EXTRA_PACKAGES="${RT_EXTRA_PACKAGES:-} slurm-wlm munge valgrind python3 python3-matplotlib"
 "$ROOT/scripts/setup.sh" "$ROOT/build" -DBUILD_TESTING=ON >/dev/null
 (cd "$ROOT/build" && ctest --output-on-failure --timeout 600 "$@")
 "$ROOT/scripts/sanitize.sh"
