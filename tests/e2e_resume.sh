@@ -6,7 +6,7 @@
 # and corrupt ones are refused; a full disk gives a clear error and no file.
 BIN=$1 MPIRUN=${2:-}
 source "$(dirname "$0")/lib.sh"
-A=(--width 160 --height 96 -s 300 -q)
+A=(--width 160 --height 96 -s 1000 -q)
 "$BIN" "${A[@]}" -j 2 -o "$WORK/ref.png" >/dev/null
 check_eq "reference render" $? 0
 
