@@ -372,8 +372,9 @@ int main(int argc, char **argv)
         printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank\n", res.ranks[0].maxrss_mb, rss_min,
                rss_max);
         for (int i = 0; i < farm.size && farm.size > 1; i++)
-            printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f M segments/s\n", i,
-                   res.ranks[i].units, res.ranks[i].rows, res.ranks[i].busy, res.ranks[i].wait,
+            printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
+                   "%.3f M segments/s\n",
+                   i, res.ranks[i].units, res.ranks[i].rows, res.ranks[i].busy, res.ranks[i].wait, res.ranks[i].comm,
                    res.ranks[i].busy > 0 ? res.ranks[i].segments / res.ranks[i].busy / 1e6 : 0.0);
         printf("image hash:    %016" PRIx64 "\n", hash);
         fflush(stdout);
