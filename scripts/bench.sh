@@ -13,7 +13,7 @@
 # (counted exactly by rt-mpi), and the whole command's wall time.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-ROUNDS=3 FULL=0 W=400 H=266 S=16
+ROUNDS=3 FULL=0 W=600 H=400 S=16
 while [ $# -gt 0 ]; do
     case $1 in
     --full) FULL=1 ;;
@@ -23,12 +23,11 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-BIN=$ROOT/build/rt-mpi
-[ -x "$BIN" ] || BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
+BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build") # builds (or brings up to date)
 EMBREE_BIN=$ROOT/build-embree/rt-mpi
 # The Embree comparison build: same sources, plus --accel embree (Debian's
 # libembree-dev). Skipped, with a note, when it cannot be built.
-if [ ! -x "$EMBREE_BIN" ] && [ "${RT_BENCH_EMBREE:-1}" = 1 ]; then
+if [ "${RT_BENCH_EMBREE:-1}" = 1 ]; then
     RT_EXTRA_PACKAGES=libembree-dev "$ROOT/scripts/setup.sh" "$ROOT/build-embree" -DRT_EMBREE=ON \
         -DBUILD_TESTING=OFF >/dev/null 2>&1 || echo "bench.sh: no Embree build (libembree-dev unavailable?)" >&2
 fi

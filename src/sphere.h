@@ -18,14 +18,15 @@ static inline int rt_sphere_intersect(rt_vec3 center, double r2, const rt_ray *r
     double disc = half_b * half_b - a * c;
     if (disc < 0.0)
         return 0;
-    double sq = sqrt(disc);
-    double root = (-half_b - sq) / a;
-    if (root <= tmin || root >= tmax) {
-        root = (-half_b + sq) / a;
-        if (root <= tmin || root >= tmax)
+    /* Range checks on root * a: the division is paid only for a hit. */
+    double sq = sqrt(disc), lo = tmin * a, hi = tmax * a;
+    double num = -half_b - sq;
+    if (num <= lo || num >= hi) {
+        num = -half_b + sq;
+        if (num <= lo || num >= hi)
             return 0;
     }
-    *t = root;
+    *t = num / a;
     return 1;
 }
 
