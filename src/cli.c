@@ -1,7 +1,7 @@
 /* cli.c - option table, strict number parsing and validation. */
 #include "cli.h"
 
-#include <errno.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -10,7 +10,7 @@
 #include "fileio.h"
 #include "image_formats.h"
 #include "material.h"
-#include "render.h"
+#include "render.h" /* RT_MAX_SAMPLES */
 #include "scenes.h"
 #include "status.h"
 
@@ -36,7 +36,6 @@ void rt_cli_defaults(rt_options *o)
     o->checkpoint_interval = 60;
     o->prefetch = 2;
     o->passes = 1;
-    o->scene = "final";
     o->bit_depth = 8;
 }
 
@@ -69,7 +68,7 @@ const char *rt_cli_usage(void)
            "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray) or embree\n"
            "                           (only in builds with -DRT_EMBREE=ON) [default: bvh]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
-           "      --checkpoint <FILE>  Checkpoint of finished rows [default: OUTPUT.ckpt]\n"
+           "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
            "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
            "      --resume             Continue from the checkpoint (refused if it is from another job)\n"
            "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
@@ -77,7 +76,7 @@ const char *rt_cli_usage(void)
            "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
            "      --stats <FILE.json>  Machine-readable run summary\n"
            "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
-"      --passes <K>         Progressive: render the samples in K passes over the whole\n"
+           "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
            "                           image, rewriting a preview after each [default: 1]\n"
            "      --preview <FILE>     Preview image of --passes [default: the output]\n"
            "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
@@ -111,61 +110,63 @@ int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
     return 0;
 }
 
+/* How an option's value is stored: most options are a number in a range or
+ * a file name written straight into an rt_options field (by offset); only
+ * the few that name a choice or change the action need code of their own. */
+typedef enum optkind {
+    K_FLAG,   /* int field set to 1 */
+    K_U32,    /* uint32_t field, whole number in [lo, hi] */
+    K_INT,    /* int field, whole number in [lo, hi] */
+    K_U64,    /* uint64_t field, whole number in [lo, hi] */
+    K_PATH,   /* const char * field, non-empty */
+    K_CHOICE, /* handled by choice() */
+    K_ACTION, /* help, version, list-scenes */
+} optkind;
+
 typedef struct optdef {
     const char *lng;
     char shrt;
-    int has_arg;
-    int id;
+    optkind kind;
+    size_t off; /* field in rt_options (K_FLAG .. K_PATH) */
+    uint64_t lo, hi;
 } optdef;
 
-enum {
-    O_OUTPUT,
-    O_WIDTH,
-    O_HEIGHT,
-    O_SAMPLES,
-    O_GRID,
-    O_DEPTH,
-    O_THREADS,
-    O_SEED,
-    O_BAND,
-    O_ACCEL,
-    O_DIFFUSE,
-    O_QUIET,
-    O_CHECKPOINT,
-    O_NO_CHECKPOINT,
-    O_RESUME,
-    O_KEEP_CHECKPOINT,
-    O_CKPT_INTERVAL,
-    O_TRACE,
-    O_STATS,
-    O_PREFETCH,
-    O_EMPTY_UNITS,
-    O_SERVE_ONLY,
-    O_PASSES,
-    O_PREVIEW,
-    O_VERSION,
-    O_HELP,
-    O_SCENE,
-    O_SCENE_FILE,
-    O_DUMP_SCENE,
-    O_LIST_SCENES,
-    O_BIT_DEPTH,
-    O_PPM_ASCII
-};
-
+#define F(field) offsetof(rt_options, field)
 static const optdef OPTS[] = {
-    {"output", 'o', 1, O_OUTPUT},   {"width", 0, 1, O_WIDTH},       {"height", 0, 1, O_HEIGHT},
-    {"samples", 's', 1, O_SAMPLES}, {"grid", 0, 1, O_GRID},         {"max-depth", 0, 1, O_DEPTH},
-    {"threads", 'j', 1, O_THREADS}, {"seed", 0, 1, O_SEED},         {"band", 0, 1, O_BAND},
-    {"accel", 0, 1, O_ACCEL},       {"diffuse", 0, 1, O_DIFFUSE},   {"quiet", 'q', 0, O_QUIET},
-    {"version", 0, 0, O_VERSION},   {"help", 'h', 0, O_HELP},       {"checkpoint", 0, 1, O_CHECKPOINT},
-    {"no-checkpoint", 0, 0, O_NO_CHECKPOINT}, {"resume", 0, 0, O_RESUME}, {"keep-checkpoint", 0, 0, O_KEEP_CHECKPOINT},
-    {"checkpoint-interval", 0, 1, O_CKPT_INTERVAL}, {"trace", 0, 1, O_TRACE}, {"stats", 0, 1, O_STATS},
-    {"prefetch", 0, 1, O_PREFETCH}, {"empty-units", 0, 0, O_EMPTY_UNITS},
-    {"serve-only", 0, 0, O_SERVE_ONLY}, {"passes", 0, 1, O_PASSES}, {"preview", 0, 1, O_PREVIEW},
-    {"scene", 0, 1, O_SCENE},       {"scene-file", 0, 1, O_SCENE_FILE}, {"dump-scene", 0, 1, O_DUMP_SCENE}, {"list-scenes", 0, 0, O_LIST_SCENES},
-    {"bit-depth", 0, 1, O_BIT_DEPTH},   {"ppm-ascii", 0, 0, O_PPM_ASCII},
+    {"output", 'o', K_PATH, F(output), 0, 0},
+    {"width", 0, K_U32, F(width), 1, MAX_DIM},
+    {"height", 0, K_U32, F(height), 1, MAX_DIM},
+    {"samples", 's', K_U32, F(samples), 1, RT_MAX_SAMPLES},
+    {"grid", 0, K_INT, F(grid), 0, 1000},
+    {"max-depth", 0, K_U32, F(max_depth), 1, 100000},
+    {"threads", 'j', K_INT, F(threads), 0, 4096},
+    {"seed", 0, K_U64, F(seed), 0, UINT64_MAX},
+    {"band", 0, K_U32, F(band), 0, MAX_DIM},
+    {"accel", 0, K_CHOICE, 0, 0, 0},
+    {"diffuse", 0, K_CHOICE, 0, 0, 0},
+    {"scene", 0, K_CHOICE, 0, 0, 0},
+    {"bit-depth", 0, K_CHOICE, 0, 0, 0},
+    {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
+    {"dump-scene", 0, K_PATH, F(dump_scene), 0, 0},
+    {"ppm-ascii", 0, K_FLAG, F(ppm_ascii), 0, 0},
+    {"quiet", 'q', K_FLAG, F(quiet), 0, 0},
+    {"checkpoint", 0, K_PATH, F(checkpoint), 0, 0},
+    {"no-checkpoint", 0, K_FLAG, F(no_checkpoint), 0, 0},
+    {"resume", 0, K_FLAG, F(resume), 0, 0},
+    {"keep-checkpoint", 0, K_FLAG, F(keep_checkpoint), 0, 0},
+    {"checkpoint-interval", 0, K_U32, F(checkpoint_interval), 0, 86400},
+    {"trace", 0, K_PATH, F(trace), 0, 0},
+    {"stats", 0, K_PATH, F(stats), 0, 0},
+    {"prefetch", 0, K_U32, F(prefetch), 1, 64},
+    {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
+    {"preview", 0, K_PATH, F(preview), 0, 0},
+    {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
+    {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
+    {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
+    {"version", 0, K_ACTION, RT_CLI_VERSION, 0, 0},
+    {"help", 'h', K_ACTION, RT_CLI_HELP, 0, 0},
 };
+#undef F
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
 
 static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, uint64_t *out, char *err,
@@ -180,10 +181,84 @@ static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, u
     return r;
 }
 
+/* The options whose value names one of a set of choices. */
+static int choice(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
+{
+    int k;
+    if (!strcmp(d->lng, "accel")) {
+        if ((k = rt_accel_parse(val)) < 0) {
+            snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree", name, val);
+            return -1;
+        }
+        o->accel = k;
+    } else if (!strcmp(d->lng, "diffuse")) {
+        if ((k = rt_diffuse_parse(val)) < 0) {
+            snprintf(err, errlen, "%s: '%s' is not one of lambertian, sphere, hemisphere", name, val);
+            return -1;
+        }
+        o->diffuse = k;
+    } else if (!strcmp(d->lng, "bit-depth")) {
+        if (strcmp(val, "8") && strcmp(val, "16")) {
+            snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
+            return -1;
+        }
+        o->bit_depth = val[0] == '8' ? 8 : 16;
+    } else { /* scene */
+        int known = 0;
+        for (unsigned i = 0; i < rt_scenes_count(); i++)
+            known |= !strcmp(val, rt_scenes_info(i)->name);
+        if (!known) {
+            snprintf(err, errlen, "%s: no scene named '%s' (see --list-scenes)", name, val);
+            return -1;
+        }
+        o->scene = val;
+    }
+    return 0;
+}
+
+/* Stores val (NULL for options without one) as d says. */
+static int apply(const optdef *d, const char *name, const char *val, rt_options *o, rt_cli_action *action,
+                 char *err, size_t errlen)
+{
+    char *field = (char *)o + d->off;
+    uint64_t v = 0;
+    switch (d->kind) {
+    case K_FLAG:
+        *(int *)field = 1;
+        return 0;
+    case K_U32:
+    case K_INT:
+    case K_U64:
+        if (number(name, val, d->lo, d->hi, &v, err, errlen))
+            return -1;
+        if (d->kind == K_U32)
+            *(uint32_t *)field = (uint32_t)v;
+        else if (d->kind == K_INT)
+            *(int *)field = (int)v;
+        else
+            *(uint64_t *)field = v;
+        return 0;
+    case K_PATH:
+        if (!*val) {
+            snprintf(err, errlen, "%s: empty file name", name);
+            return -1;
+        }
+        *(const char **)field = val;
+        return 0;
+    case K_CHOICE:
+        return choice(d, name, val, o, err, errlen);
+    case K_ACTION:
+        /* --help wins over the others, --list-scenes and --version over a run */
+        if (*action == RT_CLI_RUN || d->off == RT_CLI_HELP)
+            *action = (rt_cli_action)d->off;
+        return 0;
+    }
+    return 0;
+}
+
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
 {
     rt_cli_action action = RT_CLI_RUN;
-    int scene_given = 0;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const optdef *d = NULL;
@@ -200,8 +275,9 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
                          arg);
                 return RT_CLI_ERROR;
             }
+            int takes = d->kind != K_FLAG && d->kind != K_ACTION;
             if (eq) {
-                if (!d->has_arg) {
+                if (!takes) {
                     snprintf(err, errlen, "option --%s takes no value", d->lng);
                     return RT_CLI_ERROR;
                 }
@@ -212,204 +288,37 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             for (size_t k = 0; k < N_OPTS; k++)
                 if (OPTS[k].shrt == arg[1])
                     d = &OPTS[k];
-            if (!d) {
+            int takes = d && d->kind != K_FLAG && d->kind != K_ACTION;
+            if (!d || (arg[2] && !takes)) {
                 snprintf(err, errlen, "unknown option '%s' (see --help)", arg);
                 return RT_CLI_ERROR;
             }
-            if (arg[2]) {
-                if (!d->has_arg) {
-                    snprintf(err, errlen, "unknown option '%s' (see --help)", arg);
-                    return RT_CLI_ERROR;
-                }
+            if (arg[2])
                 val = arg + 2; /* -j4 */
-            }
             snprintf(name, sizeof name, "-%c", d->shrt);
         } else {
             snprintf(err, errlen, "unexpected argument '%s' (see --help)", arg);
             return RT_CLI_ERROR;
         }
-        if (d->has_arg && !val) {
+        if (d->kind != K_FLAG && d->kind != K_ACTION && !val) {
             if (i + 1 >= argc) {
                 snprintf(err, errlen, "option %s needs a value", name);
                 return RT_CLI_ERROR;
             }
             val = argv[++i];
         }
-        uint64_t v = 0;
-        switch (d->id) {
-        case O_OUTPUT:
-            if (!*val) {
-                snprintf(err, errlen, "%s: empty file name", name);
-                return RT_CLI_ERROR;
-            }
-            o->output = val;
-            break;
-        case O_WIDTH:
-            if (number(name, val, 1, MAX_DIM, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->width = (uint32_t)v;
-            break;
-        case O_HEIGHT:
-            if (number(name, val, 1, MAX_DIM, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->height = (uint32_t)v;
-            o->height_given = 1;
-            break;
-        case O_SAMPLES:
-            if (number(name, val, 1, RT_MAX_SAMPLES, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->samples = (uint32_t)v;
-            break;
-        case O_GRID:
-            if (number(name, val, 0, 1000, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->grid = (int)v;
-            break;
-        case O_DEPTH:
-            if (number(name, val, 1, 100000, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->max_depth = (uint32_t)v;
-            break;
-        case O_THREADS:
-            if (number(name, val, 0, 4096, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->threads = (int)v;
-            break;
-        case O_SEED:
-            if (number(name, val, 0, UINT64_MAX, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->seed = v;
-            break;
-        case O_BAND:
-            if (number(name, val, 0, MAX_DIM, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->band = (uint32_t)v;
-            break;
-        case O_ACCEL: {
-            int k = rt_accel_parse(val);
-            if (k < 0) {
-                snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree", name, val);
-                return RT_CLI_ERROR;
-            }
-            o->accel = k;
-            break;
-        }
-        case O_DIFFUSE:
-            if (!strcmp(val, "lambertian"))
-                o->diffuse = RT_DIFFUSE_LAMBERTIAN;
-            else if (!strcmp(val, "sphere"))
-                o->diffuse = RT_DIFFUSE_SPHERE;
-            else if (!strcmp(val, "hemisphere"))
-                o->diffuse = RT_DIFFUSE_HEMISPHERE;
-            else {
-                snprintf(err, errlen, "%s: '%s' is not one of lambertian, sphere, hemisphere", name, val);
-                return RT_CLI_ERROR;
-            }
-            break;
-        case O_QUIET:
-            o->quiet = 1;
-            break;
-        case O_CHECKPOINT:
-        case O_TRACE:
-        case O_STATS:
-            if (!*val) {
-                snprintf(err, errlen, "%s: empty file name", name);
-                return RT_CLI_ERROR;
-            }
-            if (d->id == O_CHECKPOINT)
-                o->checkpoint = val;
-            else if (d->id == O_TRACE)
-                o->trace = val;
-            else
-                o->stats = val;
-            break;
-        case O_NO_CHECKPOINT:
-            o->no_checkpoint = 1;
-            break;
-        case O_RESUME:
-            o->resume = 1;
-            break;
-        case O_KEEP_CHECKPOINT:
-            o->keep_checkpoint = 1;
-            break;
-        case O_CKPT_INTERVAL:
-            if (number(name, val, 0, 86400, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->checkpoint_interval = (uint32_t)v;
-            break;
-        case O_PASSES:
-            if (number(name, val, 1, RT_MAX_SAMPLES, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->passes = (uint32_t)v;
-            break;
-        case O_PREVIEW:
-            if (!*val) {
-                snprintf(err, errlen, "%s: empty file name", name);
-                return RT_CLI_ERROR;
-            }
-            o->preview = val;
-            break;
-        case O_SERVE_ONLY:
-            o->serve_only = 1;
-            break;
-        case O_EMPTY_UNITS:
-            o->empty_units = 1;
-            break;
-        case O_PREFETCH:
-            if (number(name, val, 1, 64, &v, err, errlen))
-                return RT_CLI_ERROR;
-            o->prefetch = (uint32_t)v;
-            break;
-        case O_VERSION:
-            if (action == RT_CLI_RUN)
-                action = RT_CLI_VERSION;
-            break;
-        case O_HELP:
-            action = RT_CLI_HELP;
-            break;
-        case O_SCENE: {
-            int known = 0;
-            for (unsigned k = 0; k < rt_scenes_count(); k++)
-                known |= !strcmp(val, rt_scenes_info(k)->name);
-            if (!known) {
-                snprintf(err, errlen, "%s: no scene named '%s' (see --list-scenes)", name, val);
-                return RT_CLI_ERROR;
-            }
-            o->scene = val;
-            scene_given = 1;
-            break;
-        }
-        case O_SCENE_FILE:
-        case O_DUMP_SCENE:
-            if (!*val) {
-                snprintf(err, errlen, "%s: empty file name", name);
-                return RT_CLI_ERROR;
-            }
-            *(d->id == O_SCENE_FILE ? &o->scene_file : &o->dump_scene) = val;
-            break;
-        case O_LIST_SCENES:
-            if (action == RT_CLI_RUN)
-                action = RT_CLI_LIST_SCENES;
-            break;
-        case O_BIT_DEPTH:
-            if (strcmp(val, "8") && strcmp(val, "16")) {
-                snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
-                return RT_CLI_ERROR;
-            }
-            o->bit_depth = val[0] == '8' ? 8 : 16;
-            break;
-        case O_PPM_ASCII:
-            o->ppm_ascii = 1;
-            break;
-        }
+        if (apply(d, name, val, o, &action, err, errlen))
+            return RT_CLI_ERROR;
     }
     if (action != RT_CLI_RUN)
         return action;
-    if (scene_given && o->scene_file) {
+    if (o->scene && o->scene_file) {
         snprintf(err, errlen, "--scene and --scene-file: give one or the other");
         return RT_CLI_ERROR;
     }
-    if (!o->height_given) {
+    if (!o->scene && !o->scene_file)
+        o->scene = "final";
+    if (!o->height) { /* not given (--height is at least 1) */
         o->height = (uint32_t)((double)o->width / 1.5);
         if (o->height == 0) {
             snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->width);

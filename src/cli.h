@@ -18,7 +18,7 @@ typedef enum rt_cli_action {
 
 typedef struct rt_options {
     const char *output;
-    uint32_t width, height; /* height 0 before validation = width / 1.5 */
+    uint32_t width, height; /* height 0 = not given: width / 1.5 */
     uint32_t samples;
     int grid;
     uint32_t max_depth;
@@ -28,7 +28,6 @@ typedef struct rt_options {
     int quiet;
     int accel;   /* rt_accel_kind */
     int diffuse; /* rt_diffuse */
-    int height_given;
     const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */
@@ -38,7 +37,7 @@ typedef struct rt_options {
     int serve_only;
     uint32_t passes;
     const char *preview; /* progressive preview file; NULL = the output */
-    const char *scene;      /* named scene (scenes.h) */
+    const char *scene;      /* named scene (scenes.h); "final" when no scene file is given */
     const char *scene_file; /* JSON scene file instead of a named scene */
     const char *dump_scene; /* write the scene as JSON here, then exit */
     int bit_depth;          /* 8 or 16 (PNG, PPM) */

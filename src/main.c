@@ -14,6 +14,7 @@
 #include "image.h"
 #include "image_formats.h"
 #include "image_io.h"
+#include "material.h"
 #include "progress.h"
 #include "report.h"
 #include "render.h"
@@ -67,10 +68,9 @@ static int check_memory(const rt_options *o, char *err, size_t errlen)
  * it goes (-o), so the file is byte-identical however it was rendered. */
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
-    static const char *diffuse[] = {"lambertian", "sphere", "hemisphere"};
     snprintf(buf, n, "rt-mpi --width %u --height %u --samples %u --grid %d --max-depth %u --seed %" PRIu64
              " --diffuse %s --accel %s %s %s",
-             o->width, o->height, o->samples, o->grid, o->max_depth, o->seed, diffuse[o->diffuse],
+             o->width, o->height, o->samples, o->grid, o->max_depth, o->seed, rt_diffuse_name((rt_diffuse)o->diffuse),
              rt_accel_name((rt_accel_kind)o->accel), o->scene_file ? "--scene-file" : "--scene",
              o->scene_file ? o->scene_file : o->scene);
 }

@@ -2,8 +2,24 @@
 #include "material.h"
 
 #include <math.h>
+#include <string.h>
 
 #include "sample.h"
+
+static const char *const DIFFUSE_NAMES[] = {"lambertian", "sphere", "hemisphere"}; /* rt_diffuse order */
+
+const char *rt_diffuse_name(rt_diffuse model)
+{
+    return (unsigned)model < 3 ? DIFFUSE_NAMES[model] : "?";
+}
+
+int rt_diffuse_parse(const char *name)
+{
+    for (int k = 0; k < 3; k++)
+        if (!strcmp(name, DIFFUSE_NAMES[k]))
+            return k;
+    return -1;
+}
 
 void rt_surface_from_sphere(rt_surface *rec, const rt_sphere *sp, const rt_ray *ray, double t)
 {

@@ -14,6 +14,10 @@ typedef enum rt_diffuse {
     RT_DIFFUSE_HEMISPHERE = 2, /* uniform over the hemisphere */
 } rt_diffuse;
 
+/* "lambertian", "sphere", "hemisphere"; and back (-1 when unknown). */
+const char *rt_diffuse_name(rt_diffuse model);
+int rt_diffuse_parse(const char *name);
+
 typedef struct rt_surface {
     rt_vec3 p;      /* hit point */
     rt_vec3 normal; /* unit, facing against the incoming ray */
