@@ -32,6 +32,7 @@
 #include <mpi.h>
 #endif
 
+#include "array.h"
 #include "status.h"
 
 enum { TAG_HELLO = 11, TAG_UNIT = 12, TAG_DONE = 13, TAG_RESULT = 14 };
@@ -52,7 +53,6 @@ typedef struct pending {
 typedef struct shared {
     pthread_mutex_t mu;
     const rt_farm_job *job;
-    const rt_farm *farm;
     rt_sched sched;
     uint32_t W;
     uint64_t segments;
@@ -69,7 +69,6 @@ typedef struct shared {
     uint32_t passes_done;  /* progressive passes complete */
     int pass_ready;        /* a pass completed: the server writes the preview */
     double last_ckpt;
-    int checkpoints;
     int ckpt_warned;
 } shared;
 
@@ -226,6 +225,14 @@ static void commit(shared *S, const rt_unit *u, const int64_t *sums)
         dst[i] += sums[i];
     rt_sched_commit(&S->sched, u);
     S->dirty = 1;
+    /* A progressive pass is complete when every row has its samples (an
+     * O(height) scan, so only in progressive runs). */
+    const rt_sched *sc = &S->sched;
+    while (sc->passes > 1 && S->passes_done < sc->passes &&
+           rt_sched_min_committed(sc) >= rt_sched_pass_end(sc, S->passes_done)) {
+        S->passes_done++;
+        S->pass_ready = 1;
+    }
 }
 
 /* Adds a finished unit to the image in commit order (see schedule.h):
@@ -250,15 +257,7 @@ static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sum
     } else {
         size_t n = (size_t)(u->y1 - u->y0) * S->W * 3;
         int64_t *copy = malloc(n * sizeof *copy);
-        if (S->n_pending == S->cap_pending) {
-            size_t nc = S->cap_pending ? 2 * S->cap_pending : 16;
-            pending *q = realloc(S->pending, nc * sizeof *q);
-            if (q) {
-                S->pending = q;
-                S->cap_pending = nc;
-            }
-        }
-        if (!copy || S->n_pending == S->cap_pending) {
+        if (!copy || rt_array_reserve((void **)&S->pending, &S->cap_pending, S->n_pending + 1, sizeof *S->pending)) {
             free(copy);
             S->error = RT_ENOMEM;
         } else {
@@ -267,40 +266,23 @@ static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sum
             S->pending[S->n_pending++].sums = copy;
         }
     }
-    uint32_t passes = S->sched.passes;
-    if (passes > 1 && S->passes_done < passes) {
-        uint32_t m = rt_sched_min_committed(&S->sched);
-        while (S->passes_done < passes && m >= rt_sched_pass_end(&S->sched, S->passes_done)) {
-            S->passes_done++;
-            S->pass_ready = 1;
-        }
-    }
     S->segments += segs;
     rt_rank_stats *st = &S->stats[rank];
     st->units++;
     st->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / S->sched.samples;
     st->segments += (double)segs;
     st->busy += end - start;
-    if (S->job->trace) {
-        if (S->n_trace == S->cap_trace) {
-            size_t nc = S->cap_trace ? 2 * S->cap_trace : 1024;
-            rt_trace_event *q = realloc(S->trace, nc * sizeof *q);
-            if (q) {
-                S->trace = q;
-                S->cap_trace = nc;
-            }
-        }
-        if (S->n_trace < S->cap_trace) {
-            rt_trace_event ev = {rank, *u, start, end};
-            S->trace[S->n_trace++] = ev;
-        }
+    if (S->job->trace) { /* out of memory: the trace misses events, the render goes on */
+        if (rt_array_reserve((void **)&S->trace, &S->cap_trace, S->n_trace + 1, sizeof *S->trace) == RT_OK)
+            S->trace[S->n_trace++] = (rt_trace_event){rank, *u, start, end};
     }
     pthread_mutex_unlock(&S->mu);
 }
 
 /* A consistent copy of the committed counts and sums, taken under the lock
- * (other threads keep adding to S->acc). */
-static int snapshot(shared *S, uint32_t **committed, int64_t **acc)
+ * (other threads keep adding to S->acc). for_checkpoint marks the state as
+ * saved. */
+static int snapshot(shared *S, int for_checkpoint, uint32_t **committed, int64_t **acc)
 {
     size_t H = S->sched.height, n = H * S->W * 3;
     *committed = malloc(H * sizeof **committed);
@@ -313,7 +295,8 @@ static int snapshot(shared *S, uint32_t **committed, int64_t **acc)
     pthread_mutex_lock(&S->mu);
     memcpy(*committed, S->sched.committed, H * sizeof **committed);
     memcpy(*acc, S->acc, n * sizeof **acc);
-    S->dirty = 0;
+    if (for_checkpoint)
+        S->dirty = 0;
     pthread_mutex_unlock(&S->mu);
     return RT_OK;
 }
@@ -326,7 +309,6 @@ static void maybe_preview(shared *S)
     int ready = S->pass_ready;
     uint32_t pass = S->passes_done;
     S->pass_ready = 0;
-    int dirty = S->dirty;
     pthread_mutex_unlock(&S->mu);
     if (!ready)
         return;
@@ -336,16 +318,15 @@ static void maybe_preview(shared *S)
         return; /* the last pass is the final image, written by the caller */
     uint32_t *committed;
     int64_t *acc;
-    if (snapshot(S, &committed, &acc) != RT_OK)
+    if (snapshot(S, 0, &committed, &acc) != RT_OK)
         return;
-    S->dirty = dirty; /* previews do not replace checkpoints */
     job->on_pass(job->on_pass_ctx, pass, rt_sched_pass_end(&S->sched, pass - 1), committed, acc);
     free(committed);
     free(acc);
 }
 
-/* Writes the checkpoint when due (or now with force), from a snapshot so
- * that rendering goes on meanwhile. */
+/* Writes the checkpoint when due and something new was committed (or now,
+ * with force), from a snapshot so that rendering goes on meanwhile. */
 static void maybe_checkpoint(shared *S, int force)
 {
     const rt_farm_job *job = S->job;
@@ -358,11 +339,11 @@ static void maybe_checkpoint(shared *S, int force)
     pthread_mutex_lock(&S->mu);
     int dirty = S->dirty;
     pthread_mutex_unlock(&S->mu);
-    if (!dirty)
+    if (!dirty && !force)
         return;
     uint32_t *committed;
     int64_t *acc;
-    int st = snapshot(S, &committed, &acc);
+    int st = snapshot(S, 1, &committed, &acc);
     if (!st) {
         st = rt_ckpt_write(job->checkpoint, &job->ckpt_job, committed, acc);
         free(committed);
@@ -376,8 +357,6 @@ static void maybe_checkpoint(shared *S, int force)
             fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
                     job->checkpoint, rt_status_str(st));
         S->ckpt_warned = 1;
-    } else {
-        S->checkpoints++;
     }
 }
 
@@ -389,9 +368,6 @@ static void interrupted(const rt_farm *f, shared *S)
     if (job->progress && job->progress->enabled && job->progress->tty)
         fputc('\n', stderr);
     if (job->checkpoint) {
-        pthread_mutex_lock(&S->mu);
-        S->dirty = 1;
-        pthread_mutex_unlock(&S->mu);
         maybe_checkpoint(S, 1);
         fprintf(stderr, "rt-mpi: interrupted by signal %d: checkpoint %s holds %u of %u rows; rerun with --resume\n",
                 sig, job->checkpoint, S->sched.rows_done, S->sched.height);
@@ -741,7 +717,6 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
         memset(&S, 0, sizeof S);
         pthread_mutex_init(&S.mu, NULL);
         S.job = job;
-        S.farm = f;
         S.W = r->p.width;
         S.acc = job->acc;
         S.t0 = t0;
@@ -772,7 +747,6 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
             rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(S.error));
         res->wall = rt_now() - t0;
         S.stats[0].maxrss_mb = maxrss_mb();
-        S.stats[0].wait = 0;
 #ifdef RT_HAVE_MPI
         if (f->mpi && f->size > 1) {
             /* Workers report their own wait/comm time and peak memory. */
@@ -793,7 +767,6 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
         res->segments = S.segments;
         res->trace = S.trace;
         res->n_trace = S.n_trace;
-        res->checkpoints = S.checkpoints;
         for (size_t i = 0; i < S.n_pending; i++)
             free(S.pending[i].sums);
         free(S.pending);

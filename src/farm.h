@@ -67,7 +67,6 @@ typedef struct rt_farm_result {
     rt_trace_event *trace;
     size_t n_trace;
     double wall;          /* seconds in rt_farm_render */
-    int checkpoints;      /* checkpoint files written */
 } rt_farm_result;
 
 int rt_farm_init(rt_farm *f, int *argc, char ***argv);

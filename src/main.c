@@ -75,15 +75,9 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              o->scene_file ? o->scene_file : o->scene);
 }
 
-typedef struct preview_ctx {
-    const rt_options *opt;
-    const rt_farm *farm;
-} preview_ctx;
-
 static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
 {
-    preview_ctx *c = arg;
-    const rt_options *o = c->opt;
+    const rt_options *o = arg;
     const char *path = o->preview ? o->preview : o->output;
     char info[64];
     snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->samples);
@@ -93,6 +87,19 @@ static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint
     int st = rt_image_write_rows(path, acc, o->width, o->height, committed, &wo);
     if (st)
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
+}
+
+/* A checkpoint that holds the whole finished image (every row complete). */
+static int save_finished(const rt_options *o, const rt_ckpt_job *ck, const int64_t *acc)
+{
+    uint32_t *all = malloc(o->height * sizeof *all);
+    if (!all)
+        return RT_ENOMEM;
+    for (uint32_t y = 0; y < o->height; y++)
+        all[y] = o->samples;
+    int st = rt_ckpt_write(o->checkpoint, ck, all, acc);
+    free(all);
+    return st;
 }
 
 int main(int argc, char **argv)
@@ -237,10 +244,9 @@ int main(int argc, char **argv)
     job.sched.units_per_rank = 8;
     job.sched.min_samples = 1;
     job.sched.passes = opt.passes;
-    preview_ctx pctx = {&opt, &farm};
     if (opt.passes > 1) {
         job.on_pass = write_preview;
-        job.on_pass_ctx = &pctx;
+        job.on_pass_ctx = &opt;
     }
     job.threads = threads;
     job.prefetch = (int)opt.prefetch;
@@ -316,32 +322,14 @@ int main(int argc, char **argv)
         if (st) {
             /* Keep the finished work: a resume only has to write the image. */
             const char *saved = "";
-            if (opt.checkpoint) {
-                uint32_t *all = malloc(opt.height * sizeof *all);
-                if (all) {
-                    for (uint32_t y = 0; y < opt.height; y++)
-                        all[y] = opt.samples;
-                    if (rt_ckpt_write(opt.checkpoint, &ck, all, job.acc) == RT_OK)
-                        saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
-                    free(all);
-                }
-            }
+            if (opt.checkpoint && save_finished(&opt, &ck, job.acc) == RT_OK)
+                saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
             rt_farm_fail(&farm, EXIT_RUNTIME, "writing %s: %s%s", opt.output, rt_status_str(st), saved);
         }
         if (opt.checkpoint && !opt.keep_checkpoint)
             unlink(opt.checkpoint);
-        else if (opt.checkpoint) {
-            uint32_t *all = malloc(opt.height * sizeof *all);
-            if (all) {
-                for (uint32_t y = 0; y < opt.height; y++)
-                    all[y] = opt.samples;
-                st = rt_ckpt_write(opt.checkpoint, &ck, all, job.acc);
-                free(all);
-                if (st)
-                    fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", opt.checkpoint,
-                            rt_status_str(st));
-            }
-        }
+        else if (opt.checkpoint && (st = save_finished(&opt, &ck, job.acc)) != RT_OK)
+            fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", opt.checkpoint, rt_status_str(st));
         double rss_min = res.ranks[0].maxrss_mb, rss_max = rss_min;
         for (int i = 1; i < farm.size; i++) {
             if (res.ranks[i].maxrss_mb < rss_min)

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "array.h"
 #include "rng.h"
 #include "status.h"
 
@@ -25,26 +26,15 @@ void rt_scene_free(rt_scene *s)
     memset(s, 0, sizeof *s);
 }
 
-static int grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
+/* Room for one more element, within the scene format's limit. */
+static int grow(void **p, size_t *cap, uint32_t n, size_t elem)
 {
-    if (need <= *cap)
-        return RT_OK;
-    if (need > RT_SCENE_MAX_SPHERES)
-        return RT_EOVERFLOW;
-    uint32_t nc = *cap ? *cap : 64;
-    while (nc < need)
-        nc = nc > RT_SCENE_MAX_SPHERES / 2 ? RT_SCENE_MAX_SPHERES : nc * 2;
-    void *q = realloc(*p, (size_t)nc * elem);
-    if (!q)
-        return RT_ENOMEM;
-    *p = q;
-    *cap = nc;
-    return RT_OK;
+    return n >= RT_SCENE_MAX_SPHERES ? RT_EOVERFLOW : rt_array_reserve(p, cap, (size_t)n + 1, elem);
 }
 
 int rt_scene_add_material(rt_scene *s, const rt_material *m, uint32_t *index)
 {
-    int st = grow((void **)&s->materials, &s->cap_materials, s->n_materials + 1, sizeof *m);
+    int st = grow((void **)&s->materials, &s->cap_materials, s->n_materials, sizeof *m);
     if (st)
         return st;
     s->materials[s->n_materials] = *m;
@@ -58,7 +48,7 @@ int rt_scene_add_sphere(rt_scene *s, rt_vec3 center, double radius, uint32_t mat
 {
     if (material >= s->n_materials || !(radius != 0.0) || !isfinite(radius))
         return RT_EINVAL;
-    int st = grow((void **)&s->spheres, &s->cap_spheres, s->n_spheres + 1, sizeof *s->spheres);
+    int st = grow((void **)&s->spheres, &s->cap_spheres, s->n_spheres, sizeof *s->spheres);
     if (st)
         return st;
     rt_sphere *sp = &s->spheres[s->n_spheres++];

@@ -39,9 +39,11 @@ typedef struct rt_camera_desc {
 
 typedef struct rt_scene {
     rt_sphere *spheres;
-    uint32_t n_spheres, cap_spheres;
+    uint32_t n_spheres;
+    size_t cap_spheres;
     rt_material *materials;
-    uint32_t n_materials, cap_materials;
+    uint32_t n_materials;
+    size_t cap_materials;
     rt_camera_desc camera;
     rt_vec3 sky_bottom, sky_top; /* background gradient by ray direction y */
 } rt_scene;

@@ -4,18 +4,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "array.h"
 #include "status.h"
 
-static int push(rt_sched *s, uint32_t *cap, rt_unit u)
+static int push(rt_sched *s, size_t *cap, rt_unit u)
 {
-    if (s->n_units == *cap) {
-        uint32_t nc = *cap ? *cap * 2 : 256;
-        rt_unit *q = realloc(s->units, (size_t)nc * sizeof *q);
-        if (!q)
-            return RT_ENOMEM;
-        s->units = q;
-        *cap = nc;
-    }
+    int st = rt_array_reserve((void **)&s->units, cap, (size_t)s->n_units + 1, sizeof u);
+    if (st)
+        return st;
     u.id = s->n_units;
     s->units[s->n_units++] = u;
     return RT_OK;
@@ -68,7 +64,8 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committ
     /* One row partition, reused by every pass: runs of rows that have the
      * same committed count, cut into bands of guided (or fixed) height. */
     band *bands = NULL;
-    uint32_t nb = 0, capb = 0, remaining = todo;
+    uint32_t nb = 0, remaining = todo;
+    size_t capb = 0;
     int st = RT_OK;
     for (uint32_t y = 0; y < p->height && !st;) {
         uint32_t c = s->committed[y];
@@ -84,20 +81,13 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committ
         uint32_t y1 = y;
         while (y1 < p->height && y1 - y < rows && s->committed[y1] == c)
             y1++;
-        if (nb == capb) {
-            capb = capb ? 2 * capb : 256;
-            band *q = realloc(bands, capb * sizeof *q);
-            if (!q) {
-                st = RT_ENOMEM;
-                break;
-            }
-            bands = q;
-        }
+        if ((st = rt_array_reserve((void **)&bands, &capb, (size_t)nb + 1, sizeof *bands)) != RT_OK)
+            break;
         bands[nb++] = (band){y, y1, c};
         remaining -= y1 - y;
         y = y1;
     }
-    uint32_t capu = 0;
+    size_t capu = 0;
     for (uint32_t k = 0; k < s->passes && !st; k++) {
         uint32_t p0 = k ? rt_sched_pass_end(s, k - 1) : 0, p1 = rt_sched_pass_end(s, k);
         for (uint32_t b = 0; b < nb && !st; b++) {
