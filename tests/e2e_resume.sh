@@ -111,6 +111,16 @@ if mount -t tmpfs -o size=48k tmpfs "$WORK/full" 2>/dev/null; then
     [ $st -eq 1 ] && grep -q "no space left" "$WORK/e.txt" && pass "full disk -> $(cat "$WORK/e.txt")" ||
         fail "full disk: status $st: $(cat "$WORK/e.txt")"
     [ -z "$(ls "$WORK/full")" ] && pass "full disk: no partial file" || fail "full disk left: $(ls "$WORK/full")"
+    # With the checkpoint elsewhere, the finished render survives the full
+    # disk and a resume only writes the image.
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/full/y.png" --checkpoint "$WORK/fulldisk.ckpt" >/dev/null 2>"$WORK/e.txt"
+    grep -q "saved in the checkpoint" "$WORK/e.txt" && [ -s "$WORK/fulldisk.ckpt" ] && pass "full disk: render kept in the checkpoint" ||
+        fail "full disk: checkpoint not kept: $(cat "$WORK/e.txt")"
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/y.png" --checkpoint "$WORK/fulldisk.ckpt" --resume >"$WORK/y.out" 2>&1
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/y-direct.png" >/dev/null 2>&1
+    grep -q "100.0% of the samples restored" "$WORK/y.out" && cmp -s "$WORK/y.png" "$WORK/y-direct.png" &&
+        pass "full disk: resume writes the identical image without rendering" ||
+        fail "full disk: resume: $(head -c 300 "$WORK/y.out")"
     umount "$WORK/full"
 else
     echo "SKIP: full-disk case needs permission to mount a tmpfs"
