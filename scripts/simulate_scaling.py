@@ -528,8 +528,6 @@ def main(argv=None):
     ap.add_argument("--stats", help="rt-mpi --stats file of the same run (width, threads)")
     ap.add_argument("--trace-width", type=int, help="width of the traced run (else from --stats)")
     ap.add_argument("--trace-threads", type=int, help="threads per rank of the traced run (else from --stats)")
-    ap.add_argument("--trace-slowdown", type=float, default=1.0,
-                    help="divide traced durations by this (the traced run shared its cores)")
     ap.add_argument("--width", type=int, help="simulated job width (default: the traced one)")
     ap.add_argument("--height", type=int, help="simulated job height (default: the traced one)")
     ap.add_argument("--samples", type=int, help="simulated samples per pixel (default: the traced one)")
@@ -553,8 +551,9 @@ def main(argv=None):
     ap.add_argument("--nap-base", type=float, default=50e-6, help="first poll back-off nap, s [50e-6]")
     ap.add_argument("--nap-cap", type=float, default=1e-3, help="longest nap, s [1e-3]")
     ap.add_argument("--nap-slack", type=float, default=80e-6, help="timer overshoot per nap, s [80e-6]")
-    ap.add_argument("--probe-miss", type=int, default=1,
-                    help="polls that miss a message which arrived during a nap (Open MPI ob1: 1) [1]")
+    ap.add_argument("--probe-miss", type=int, default=0,
+                    help="polls that miss a message which arrived during a nap: 0 for the farm as built "
+                         "(it probes twice before napping), 1 for the farm before that fix [0]")
     ap.add_argument("--worker-overhead", type=float, default=0.0,
                     help="seconds a worker spends between two units outside rendering (message handling; "
                          "under Open MPI's yield-when-idle on shared cores it is milliseconds) [0]")
@@ -591,8 +590,6 @@ def main(argv=None):
         profile = [0.0] * th
     else:
         events = load_trace(args.trace)
-        for e in events:
-            e["dur"] /= args.trace_slowdown
         th = stats.get("height") or max(e["y1"] for e in events)
         ts = stats.get("samples") or max(e["s1"] for e in events)
         profile = cost_profile(events, tw, tt, th)

@@ -342,7 +342,7 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
 }
 
 /* The file can be created: a file name, in a writable directory. */
-static int check_path(const char *opt, const char *path, char *err, size_t errlen)
+int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen)
 {
     const char *slash = strrchr(path, '/');
     if (!*(slash ? slash + 1 : path)) {
@@ -350,15 +350,11 @@ static int check_path(const char *opt, const char *path, char *err, size_t errle
         return -1;
     }
     int st = rt_file_check_writable(path);
-    if (st == RT_EINVAL) {
+    if (st == RT_EINVAL)
         snprintf(err, errlen, "%s: '%s' is a directory", opt, path);
-        return -1;
-    }
-    if (st) {
-        snprintf(err, errlen, "%s: cannot write '%s': directory does not exist or is not writable", opt, path);
-        return -1;
-    }
-    return 0;
+    else if (st)
+        snprintf(err, errlen, "%s: cannot write '%s': %s", opt, path, rt_status_str(st));
+    return st ? -1 : 0;
 }
 
 /* An image path: supported extension, options that fit its format, and a
@@ -383,13 +379,13 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
                      fmt == RT_FORMAT_BMP ? "with 8 bits per channel only" : "as 32-bit float");
         return -1;
     }
-    return check_path(opt, path, err, errlen);
+    return rt_cli_check_path(opt, path, err, errlen);
 }
 
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
 {
     if (o->dump_scene) /* the run ends after the dump: no image is written */
-        return check_path("--dump-scene", o->dump_scene, err, errlen);
+        return rt_cli_check_path("--dump-scene", o->dump_scene, err, errlen);
     if (check_image_path("--output", o->output, o, err, errlen))
         return -1;
     return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;

@@ -56,6 +56,10 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
  * fit the format), or with --dump-scene, that path instead. */
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
+/* A file can be created at path (a file name in an existing, writable
+ * directory); else -1 and a message naming opt. */
+int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen);
+
 /* Usage text for --help. */
 const char *rt_cli_usage(void);
 

@@ -106,9 +106,9 @@ int rt_file_check_writable(const char *path)
         return RT_ENOMEM;
     int st = RT_OK;
     if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        st = RT_EIO;
+        st = RT_ENOENT;
     else if (access(dir, W_OK | X_OK) != 0)
-        st = RT_EIO;
+        st = RT_EACCESS;
     free(dir);
     return st;
 }

@@ -21,8 +21,9 @@ int rt_atomic_commit(rt_atomic_file *f);
 /* Closes and removes the temporary file. */
 void rt_atomic_abort(rt_atomic_file *f);
 
-/* Checks that a file could be created at path: the directory exists and is
- * writable, and path is not a directory. Creates nothing. */
+/* Checks that a file could be created at path: RT_EINVAL when path is a
+ * directory, RT_ENOENT when its directory does not exist, RT_EACCESS when it
+ * is not writable. Creates nothing. */
 int rt_file_check_writable(const char *path);
 
 #endif

@@ -10,7 +10,6 @@
 #include "accel.h"
 #include "cli.h"
 #include "farm.h"
-#include "fileio.h"
 #include "image.h"
 #include "image_formats.h"
 #include "image_io.h"
@@ -142,10 +141,7 @@ int main(int argc, char **argv)
     if (!code && root && check_memory(&opt, err, sizeof err) != 0)
         code = EXIT_USAGE;
     if (!code && root && opt.checkpoint && !opt.dump_scene) {
-        int st = rt_file_check_writable(opt.checkpoint);
-        if (st) {
-            snprintf(err, sizeof err, "--checkpoint: cannot write '%s': %s", opt.checkpoint,
-                     st == RT_EINVAL ? "it is a directory" : "directory does not exist or is not writable");
+        if (rt_cli_check_path("--checkpoint", opt.checkpoint, err, sizeof err) != 0) {
             code = EXIT_USAGE;
         } else if (opt.resume && access(opt.checkpoint, F_OK) != 0) {
             snprintf(err, sizeof err, "--resume: no checkpoint '%s' to resume from", opt.checkpoint);

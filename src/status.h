@@ -16,7 +16,9 @@
     X(RT_EMISMATCH, -8, "data belongs to a different job")                    \
     X(RT_ECHECKSUM, -9, "checksum mismatch (corrupt or truncated)")           \
     X(RT_ENOSPACE, -10, "no space left on device")                            \
-    X(RT_EUNSUPPORTED, -11, "unsupported")
+    X(RT_EUNSUPPORTED, -11, "unsupported")                                    \
+    X(RT_ENOENT, -12, "directory does not exist")                             \
+    X(RT_EACCESS, -13, "directory is not writable")
 
 typedef enum rt_status {
 #define RT_STATUS_ENUM(name, value, msg) name = value,

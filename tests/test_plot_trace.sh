@@ -9,6 +9,7 @@ source "$(dirname "$0")/lib.sh"
 PLOT=$(cd "$(dirname "$0")/.." && pwd)/scripts/plot_trace.py
 if ! "$PY" -c 'import matplotlib' 2>/dev/null; then
     echo "SKIP: $PY has no matplotlib (Debian: apt-get install python3-matplotlib)"
+    [ "${RT_REQUIRE_ALL:-0}" = 1 ] && exit 1 # the test command installs it
     exit 77
 fi
 

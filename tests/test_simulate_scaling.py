@@ -132,13 +132,7 @@ uneven = sim.Job([1.0, 3.0], 1, 4, 1)  # each profile row becomes 2 rows of the 
 check("profile mapped onto a taller image, row by row", all(close(x, y) for x, y in
                                                             zip(uneven.R, [0, 1.0, 2.0, 5.0, 8.0])), str(uneven.R))
 
-# 7. deterministic, and the schedule port matches src/schedule.c's rules
-m = sim.Model(threads=4)
-prof = [1e-6 * (1 + (y % 7)) for y in range(90)]
-j = sim.Job(prof, 50, 90, 32)
-r1 = sim.simulate(j, 24, m, "split")
-r2 = sim.simulate(j, 24, m, "split")
-check("same input, same result", r1 == r2)
+# 7. the schedule port matches src/schedule.c's rules
 us = sim.make_units(97, 10, 64)
 cover = {}
 for y0, y1, s0, s1 in us:
@@ -168,7 +162,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check("CLI: refuses a trace without width/threads", p.returncode != 0)
 
     # 9. the real schedule: units of rt-mpi-serial's trace == make_units
-    if len(sys.argv) > 1 and os.access(sys.argv[1], os.X_OK):
+    if len(sys.argv) > 1:
+        check("rt-mpi-serial given is executable: " + sys.argv[1], os.access(sys.argv[1], os.X_OK))
         for w, h, s, band, passes in ((64, 40, 4, 0, 1), (32, 5, 8, 0, 1), (16, 3, 20, 0, 1), (24, 37, 2, 5, 1),
                                       (8, 300, 1, 0, 1), (16, 40, 12, 0, 3), (16, 4, 12, 0, 2)):
             t = os.path.join(tmp, "r.json")

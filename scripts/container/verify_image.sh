@@ -102,6 +102,8 @@ phase_tools() {
     if [ "$(id -u)" -ne 0 ]; then
         log "missing ${missing[*]} and not root: cannot install"
         echo "SKIP: missing ${missing[*]} (run as root to install)"
+        # In the test command (RT_REQUIRE_ALL=1) a skip is a failure.
+        [ "${RT_REQUIRE_ALL:-0}" = 1 ] && exit 1
         exit 77
     fi
     log "installing: ${missing[*]}"
