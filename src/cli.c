@@ -318,6 +318,8 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
     }
     if (!o->scene && !o->scene_file)
         o->scene = "final";
+    if (o->dump_scene) /* nothing renders: the render's options do not matter */
+        return RT_CLI_DUMP_SCENE;
     if (!o->height) { /* not given (--height is at least 1) */
         o->height = (uint32_t)((double)o->width / 1.5);
         if (o->height == 0) {
@@ -327,6 +329,10 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
     }
     if (o->no_checkpoint && (o->resume || o->checkpoint)) {
         snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
+        return RT_CLI_ERROR;
+    }
+    if (o->preview && o->passes < 2) {
+        snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
         return RT_CLI_ERROR;
     }
     if (o->passes > o->samples) {
@@ -384,8 +390,6 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
 
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
 {
-    if (o->dump_scene) /* the run ends after the dump: no image is written */
-        return rt_cli_check_path("--dump-scene", o->dump_scene, err, errlen);
     if (check_image_path("--output", o->output, o, err, errlen))
         return -1;
     return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;

@@ -14,6 +14,7 @@ typedef enum rt_cli_action {
     RT_CLI_VERSION = 2,
     RT_CLI_ERROR = 3,
     RT_CLI_LIST_SCENES = 4,
+    RT_CLI_DUMP_SCENE = 5, /* write the scene as JSON and end */
 } rt_cli_action;
 
 typedef struct rt_options {
@@ -53,7 +54,7 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
 
 /* Checks the output path and the --preview path (directory exists and is
  * writable, not a directory, supported extension, --bit-depth/--ppm-ascii
- * fit the format), or with --dump-scene, that path instead. */
+ * fit the format). */
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
 /* A file can be created at path (a file name in an existing, writable

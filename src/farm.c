@@ -74,10 +74,21 @@ typedef struct shared {
 
 /* ---- set-up ------------------------------------------------------------ */
 
+static int affinity(cpu_set_t *set)
+{
+    CPU_ZERO(set);
+    if (sched_getaffinity(0, sizeof *set, set) == 0 && CPU_COUNT(set) > 0)
+        return CPU_COUNT(set);
+    long online = sysconf(_SC_NPROCESSORS_ONLN);
+    return online > 0 ? (int)online : 1;
+}
+
 int rt_farm_init(rt_farm *f, int *argc, char ***argv)
 {
     memset(f, 0, sizeof *f);
-    f->size = f->local_size = 1;
+    f->size = f->mask_share = 1;
+    cpu_set_t mask;
+    f->cores = affinity(&mask);
 #ifdef RT_HAVE_MPI
     int provided = 0;
     if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
@@ -86,10 +97,25 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     MPI_Comm_rank(MPI_COMM_WORLD, &f->rank);
     MPI_Comm_size(MPI_COMM_WORLD, &f->size);
+    /* Which ranks of this node run on exactly the same CPUs? */
     MPI_Comm node;
     if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, f->rank, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
-        MPI_Comm_rank(node, &f->local_rank);
-        MPI_Comm_size(node, &f->local_size);
+        int lrank = 0, lsize = 1;
+        MPI_Comm_rank(node, &lrank);
+        MPI_Comm_size(node, &lsize);
+        cpu_set_t *all = malloc((size_t)lsize * sizeof *all);
+        if (all && MPI_Allgather(&mask, (int)sizeof mask, MPI_BYTE, all, (int)sizeof mask, MPI_BYTE, node) ==
+                       MPI_SUCCESS) {
+            f->mask_share = 0;
+            for (int r = 0; r < lsize; r++) {
+                if (CPU_EQUAL(&all[r], &mask)) {
+                    if (r < lrank)
+                        f->mask_index++;
+                    f->mask_share++;
+                }
+            }
+        }
+        free(all);
         MPI_Comm_free(&node);
     }
     if (provided < MPI_THREAD_FUNNELED) {
@@ -191,19 +217,8 @@ int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len)
 
 int rt_farm_default_threads(const rt_farm *f)
 {
-    cpu_set_t set;
-    int n = 0;
-    if (sched_getaffinity(0, sizeof set, &set) == 0)
-        n = CPU_COUNT(&set);
-    long online = sysconf(_SC_NPROCESSORS_ONLN);
-    if (n <= 0)
-        n = online > 0 ? (int)online : 1;
-    /* Unbound ranks that share a node would each see every core. */
-    if (f->local_size > 1 && online > 0 && n >= online) {
-        int share = (int)online / f->local_size;
-        int extra = (int)online % f->local_size;
-        n = share + (f->local_rank < extra ? 1 : 0);
-    }
+    int share = f->mask_share > 0 ? f->mask_share : 1;
+    int n = f->cores / share + (f->mask_index < f->cores % share ? 1 : 0);
     return n > 0 ? n : 1;
 }
 

@@ -20,7 +20,9 @@
 
 typedef struct rt_farm {
     int rank, size;
-    int local_rank, local_size; /* ranks on this node */
+    int cores;       /* CPUs in this rank's affinity mask */
+    int mask_share;  /* ranks of this node with the very same mask (>= 1) */
+    int mask_index;  /* this rank's place among them */
     int mpi;                    /* 1 when MPI is initialised */
 } rt_farm;
 
@@ -79,8 +81,9 @@ void rt_farm_exit(const rt_farm *f, int code) __attribute__((noreturn));
 void rt_farm_bcast_int(const rt_farm *f, int *v);
 int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len);
 
-/* Threads for -j 0: the cores this rank may run on; when several ranks of
- * this node share the same unrestricted set, it is divided among them. */
+/* Threads for -j 0: the cores of this rank's affinity mask, divided among
+ * the ranks of the node that have the same mask (unbound ranks, or ranks in
+ * one container's cpuset), so together they use each core once. */
 int rt_farm_default_threads(const rt_farm *f);
 
 /* The flag the signal handlers set; give it to rt_renderer.stop. */

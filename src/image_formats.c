@@ -68,7 +68,8 @@ static int start_file(rt_atomic_file *f, const char *path, const void *header, s
 
 /* ---- PPM -------------------------------------------------------------- */
 
-int rt_ppm_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int maxval, int ascii)
+/* rgb: uint8_t samples for maxval 255, host-order uint16_t for 65535. */
+static int ppm_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int maxval, int ascii)
 {
     if (!width || !height || (maxval != 255 && maxval != 65535))
         return RT_EINVAL;
@@ -125,7 +126,7 @@ static void le32(uint8_t *p, uint32_t v)
 
 /* BITMAPFILEHEADER + BITMAPINFOHEADER, 24 bits, no compression, rows
  * bottom-up in B, G, R order, each padded to a multiple of 4 bytes. */
-int rt_bmp_write(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height)
+static int bmp_write(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height)
 {
     if (!width || !height || width > INT32_MAX || height > INT32_MAX)
         return RT_EINVAL;
@@ -166,7 +167,7 @@ int rt_bmp_write(const char *path, const uint8_t *rgb, uint32_t width, uint32_t 
 
 /* Colour PFM: "PF", size, a negative scale for little-endian floats, then
  * rows from the bottom up. */
-int rt_pfm_write(const char *path, const float *rgb, uint32_t width, uint32_t height)
+static int pfm_write(const char *path, const float *rgb, uint32_t width, uint32_t height)
 {
     if (!width || !height)
         return RT_EINVAL;
@@ -275,7 +276,7 @@ static exr_result_t exr_encode_all(exr_context_t ctx, const float *rgb, uint32_t
     return rv;
 }
 
-int rt_exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height)
+static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height)
 {
     if (!width || !height || width > INT32_MAX || height > INT32_MAX)
         return RT_EINVAL;
@@ -349,16 +350,16 @@ static int write_any(const char *path, const int64_t *acc, uint32_t width, uint3
         st = rt_png_write(path, px, width, height, o->bit_depth, o->text, o->n_text);
         break;
     case RT_FORMAT_PPM:
-        st = rt_ppm_write(path, px, width, height, o->bit_depth == 16 ? 65535 : 255, o->ppm_ascii);
+        st = ppm_write(path, px, width, height, o->bit_depth == 16 ? 65535 : 255, o->ppm_ascii);
         break;
     case RT_FORMAT_BMP:
-        st = rt_bmp_write(path, px, width, height);
+        st = bmp_write(path, px, width, height);
         break;
     case RT_FORMAT_PFM:
-        st = rt_pfm_write(path, px, width, height);
+        st = pfm_write(path, px, width, height);
         break;
     case RT_FORMAT_EXR:
-        st = rt_exr_write(path, px, width, height);
+        st = exr_write(path, px, width, height);
         break;
     default:
         st = RT_EUNSUPPORTED;

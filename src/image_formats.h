@@ -49,11 +49,5 @@ int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_
 int rt_image_write_rows(const char *path, const int64_t *acc, uint32_t width, uint32_t height,
                         const uint32_t *row_samples, const rt_image_write_opts *o);
 
-/* The writers, from already converted pixels (rows from the top). */
-/* rgb: uint8_t samples for maxval 255, host-order uint16_t for 65535. */
-int rt_ppm_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int maxval, int ascii);
-int rt_bmp_write(const char *path, const uint8_t *rgb, uint32_t width, uint32_t height);
-int rt_pfm_write(const char *path, const float *rgb, uint32_t width, uint32_t height);
-int rt_exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height);
 
 #endif

@@ -25,7 +25,6 @@
 #define EXIT_RUNTIME 1
 #define EXIT_USAGE 2
 #define EXIT_CHECKPOINT 3
-#define EXIT_DONE -1 /* finished early (--dump-scene): exit 0 */
 
 /* Threads from the environment when -j is 0: OMP_NUM_THREADS if it is set
  * (it must then be a positive whole number), else the rank's cores. */
@@ -67,11 +66,20 @@ static int check_memory(const rt_options *o, char *err, size_t errlen)
  * it goes (-o), so the file is byte-identical however it was rendered. */
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
-    snprintf(buf, n, "rt-mpi --width %u --height %u --samples %u --grid %d --max-depth %u --seed %" PRIu64
-             " --diffuse %s --accel %s %s %s",
-             o->width, o->height, o->samples, o->grid, o->max_depth, o->seed, rt_diffuse_name((rt_diffuse)o->diffuse),
-             rt_accel_name((rt_accel_kind)o->accel), o->scene_file ? "--scene-file" : "--scene",
-             o->scene_file ? o->scene_file : o->scene);
+    char scene[320], grid[32] = "", format[48] = "";
+    if (o->scene_file)
+        snprintf(scene, sizeof scene, "--scene-file %s", o->scene_file);
+    else
+        snprintf(scene, sizeof scene, "--scene %s", o->scene);
+    if (!o->scene_file && !strcmp(o->scene, "final")) /* the only scene --grid shapes */
+        snprintf(grid, sizeof grid, " --grid %d", o->grid);
+    if (o->bit_depth != 8 || o->ppm_ascii)
+        snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
+                 o->ppm_ascii ? " --ppm-ascii" : "");
+    snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
+             " --diffuse %s --accel %s%s",
+             scene, grid, o->width, o->height, o->samples, o->max_depth, o->seed,
+             rt_diffuse_name((rt_diffuse)o->diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
 }
 
 static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
@@ -101,6 +109,38 @@ static int save_finished(const rt_options *o, const rt_ckpt_job *ck, const int64
     return st;
 }
 
+/* The scene of this run, named or from a file; an exit code. */
+static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
+{
+    int st = o->scene_file ? rt_scene_json_load(s, o->scene_file, err, errlen)
+                           : rt_scene_build_named(s, o->scene, o->seed, o->grid);
+    if (st && !o->scene_file)
+        snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
+    return !st ? 0 : st == RT_ENOMEM || !o->scene_file ? EXIT_RUNTIME : EXIT_USAGE;
+}
+
+/* --dump-scene: writes the scene a run would render, as JSON; an exit code. */
+static int dump_scene(const rt_options *o)
+{
+    char err[1024] = "";
+    rt_scene s;
+    rt_scene_init(&s);
+    int code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? EXIT_USAGE : 0;
+    if (!code)
+        code = make_scene(o, &s, err, sizeof err);
+    if (!code) {
+        int st = rt_scene_json_dump(&s, o->dump_scene);
+        if (st) {
+            snprintf(err, sizeof err, "writing %s: %s", o->dump_scene, rt_status_str(st));
+            code = EXIT_RUNTIME;
+        }
+    }
+    if (code)
+        fprintf(stderr, "rt-mpi: error: %s\n", err);
+    rt_scene_free(&s);
+    return code;
+}
+
 int main(int argc, char **argv)
 {
     double t_start = rt_now();
@@ -115,6 +155,11 @@ int main(int argc, char **argv)
         return EXIT_RUNTIME;
     }
     const int root = farm.rank == 0;
+    if (action == RT_CLI_DUMP_SCENE) { /* rank 0 writes the scene, nothing renders */
+        int code = root ? dump_scene(&opt) : 0;
+        rt_farm_finalize(&farm);
+        return code;
+    }
     if (action == RT_CLI_HELP || action == RT_CLI_VERSION || action == RT_CLI_LIST_SCENES) {
         if (root) {
             if (action == RT_CLI_HELP)
@@ -132,7 +177,7 @@ int main(int argc, char **argv)
      * and the machine, then tells the others. */
     int code = action == RT_CLI_ERROR ? EXIT_USAGE : 0;
     char ckpt_default[4096];
-    if (!code && !opt.no_checkpoint && !opt.checkpoint && !opt.dump_scene) {
+    if (!code && !opt.no_checkpoint && !opt.checkpoint) {
         snprintf(ckpt_default, sizeof ckpt_default, "%s.ckpt", opt.output);
         opt.checkpoint = ckpt_default;
     }
@@ -140,7 +185,7 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     if (!code && root && check_memory(&opt, err, sizeof err) != 0)
         code = EXIT_USAGE;
-    if (!code && root && opt.checkpoint && !opt.dump_scene) {
+    if (!code && root && opt.checkpoint) {
         if (rt_cli_check_path("--checkpoint", opt.checkpoint, err, sizeof err) != 0) {
             code = EXIT_USAGE;
         } else if (opt.resume && access(opt.checkpoint, F_OK) != 0) {
@@ -165,38 +210,22 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     }
 #endif
-    if (!code && root && opt.threads > 0) {
-        int cores = rt_farm_default_threads(&farm);
-        if (opt.threads > cores * farm.local_size)
-            fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
-                    opt.threads, cores * farm.local_size);
-    }
+    if (!code && root && opt.threads > farm.cores)
+        fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
+                opt.threads, farm.cores);
     /* Scene: built (or read and checked) on rank 0 before anything renders,
-     * so a bad scene file is bad input like a bad option; --dump-scene
-     * writes it and ends the run. */
+     * so a bad scene file is bad input like a bad option. */
     rt_scene built;
     rt_scene_init(&built);
-    if (!code && root) {
-        int st = opt.scene_file ? rt_scene_json_load(&built, opt.scene_file, err, sizeof err)
-                                : rt_scene_build_named(&built, opt.scene, opt.seed, opt.grid);
-        if (st && !opt.scene_file)
-            snprintf(err, sizeof err, "building the scene: %s", rt_status_str(st));
-        if (st)
-            code = st == RT_ENOMEM || !opt.scene_file ? EXIT_RUNTIME : EXIT_USAGE;
-        if (!code && opt.dump_scene) {
-            st = rt_scene_json_dump(&built, opt.dump_scene);
-            if (st)
-                snprintf(err, sizeof err, "writing %s: %s", opt.dump_scene, rt_status_str(st));
-            code = st ? EXIT_RUNTIME : EXIT_DONE;
-        }
-    }
+    if (!code && root)
+        code = make_scene(&opt, &built, err, sizeof err);
     rt_farm_bcast_int(&farm, &code);
     if (code) {
         if (root && err[0])
             fprintf(stderr, "rt-mpi: error: %s\n", err);
         rt_scene_free(&built);
         rt_farm_finalize(&farm);
-        return code == EXIT_DONE ? 0 : code;
+        return code;
     }
 
     /* The scene is broadcast as bytes and rebuilt from those bytes on every

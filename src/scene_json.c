@@ -3,8 +3,11 @@
  * the field's path), and writing them back with round-trip exact numbers. */
 #include "scene_json.h"
 
+#include "array.h"
+
 #include <cJSON.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -12,6 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "array.h"
 #include "camera.h"
 #include "fileio.h"
 #include "status.h"
@@ -480,14 +484,10 @@ static void put(sbuf *b, const char *fmt, ...)
             b->len += (size_t)n;
             return;
         }
-        size_t cap = b->cap * 2 + (size_t)n + 1;
-        char *q = realloc(b->p, cap);
-        if (!q) {
+        if (rt_array_reserve((void **)&b->p, &b->cap, b->len + (size_t)n + 1, 1) != RT_OK) {
             b->oom = 1;
             return;
         }
-        b->p = q;
-        b->cap = cap;
     }
 }
 
@@ -500,7 +500,11 @@ static void put_num(sbuf *b, const char *prefix, double d)
     if (d == floor(d) && fabs(d) < 1e15) {
         snprintf(tmp, sizeof tmp, "%.0f", d);
     } else {
-        for (int prec = 1; prec <= 17; prec++) {
+        /* "%.15g" already drops trailing zeros, so it is the shortest form
+         * whenever one of 15 digits or fewer exists; only subnormals need the
+         * search from 1 digit up. */
+        int first = fabs(d) < DBL_MIN ? 1 : 15;
+        for (int prec = first; prec <= 17; prec++) {
             snprintf(tmp, sizeof tmp, "%.*g", prec, d);
             double back = strtod(tmp, NULL);
             if (memcmp(&back, &d, sizeof d) == 0)

@@ -48,6 +48,7 @@ else
     skip "read-only directory case (root, and no permission to mount a tmpfs)"
 fi
 expect_error "bad accel" "not one of" --accel magic -o "$OUT"
+expect_error "--preview without --passes" "only with --passes 2 or more" --preview "$WORK/out/p.png" -o "$OUT"
 OMP_NUM_THREADS=abc "$BIN" --width 32 --height 16 -s 2 -q -o "$OUT" >/dev/null 2>"$WORK/e.txt"
 check_eq "OMP_NUM_THREADS=abc exit status" $? 2
 grep -q "^rt-mpi: error: OMP_NUM_THREADS='abc'" "$WORK/e.txt" && pass "OMP_NUM_THREADS message" || fail "OMP_NUM_THREADS message: $(cat "$WORK/e.txt")"

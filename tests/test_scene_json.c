@@ -105,9 +105,15 @@ int main(int argc, char **argv)
     CHECK_NEAR(s.camera.vup.y, 1, 0);
     CHECK_NEAR(s.camera.vfov_deg, 90, 0);
     CHECK_NEAR(s.camera.aperture, 0, 0);
-    CHECK_NEAR(s.camera.focus_dist, 1, 0);
     CHECK_NEAR(s.sky_top.y, 0.7, 0);
     CHECK_EQ_INT(s.n_spheres, 0);
+    rt_scene_free(&s);
+    /* focus distance defaults to |lookfrom - lookat| (3 here, not the 1 that
+     * rt_scene_init would leave) */
+    CHECK_EQ_INT(parse(&s, "{\"camera\": {\"lookfrom\": [0, 0, 0], \"lookat\": [0, 0, -3]}, \"spheres\": []}", err,
+                       sizeof err),
+                 RT_OK);
+    CHECK_NEAR(s.camera.focus_dist, 3, 1e-12);
     rt_scene_free(&s);
     /* Book v4's lens: aperture = 2 focus_dist tan(angle / 2). */
     const char *v4 = "{\"camera\": {\"lookfrom\": [13, 2, 3], \"lookat\": [0, 0, 0], \"defocus_angle\": 0.6, "
