@@ -27,36 +27,38 @@ BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build") # builds (or brings up to date)
 EMBREE_BIN=$ROOT/build-embree/rt-mpi
 # The Embree comparison build: same sources, plus --accel embree (Debian's
 # libembree-dev). Skipped, with a note, when it cannot be built.
+rm -f "$EMBREE_BIN" # never benchmark a stale one
 if [ "${RT_BENCH_EMBREE:-1}" = 1 ]; then
     RT_EXTRA_PACKAGES=libembree-dev "$ROOT/scripts/setup.sh" "$ROOT/build-embree" -DRT_EMBREE=ON \
         -DBUILD_TESTING=OFF >/dev/null 2>&1 || echo "bench.sh: no Embree build (libembree-dev unavailable?)" >&2
 fi
-export OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
-[ "$(id -u)" -ne 0 ] || export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+source "$ROOT/scripts/mpi_env.sh"
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
-COMMON=(--width $W --height $H -s $S -q -o "$TMP/b.png")
+COMMON=(--width "$W" --height "$H" -s "$S" -q --no-checkpoint -o "$TMP/b.png")
 
-declare -A CMD RATE WALL
-NAMES=()
-add() { NAMES+=("$1"); CMD[$1]="$2"; }
-add "bvh -j 1" "$BIN ${COMMON[*]} -j 1"
-add "brute -j 1" "$BIN --width $W --height $H -s $(( (S + 7) / 8 )) -q -o $TMP/b.png -j 1 --accel brute"
-if [ -x "$EMBREE_BIN" ]; then
-    add "embree -j 1" "$EMBREE_BIN ${COMMON[*]} -j 1 --accel embree"
-    add "bvh (embree build) -j 1" "$EMBREE_BIN ${COMMON[*]} -j 1"
-fi
-add "bvh -j 2" "$BIN ${COMMON[*]} -j 2"
-add "mpirun -np 2 -j 1" "mpirun -np 2 --bind-to none $BIN ${COMMON[*]} -j 1"
+declare -A RATE WALL
+NAMES=("bvh -j 1" "brute -j 1")
+[ -x "$EMBREE_BIN" ] && NAMES+=("embree -j 1" "bvh (embree build) -j 1")
+NAMES+=("bvh -j 2" "mpirun -np 2 -j 1")
+run_config() { # name: one run of that configuration
+    case $1 in
+    "bvh -j 1") "$BIN" "${COMMON[@]}" -j 1 ;;
+    "brute -j 1") "$BIN" "${COMMON[@]}" -s $(((S + 7) / 8)) -j 1 --accel brute ;; # the last -s wins
+    "embree -j 1") "$EMBREE_BIN" "${COMMON[@]}" -j 1 --accel embree ;;
+    "bvh (embree build) -j 1") "$EMBREE_BIN" "${COMMON[@]}" -j 1 ;;
+    "bvh -j 2") "$BIN" "${COMMON[@]}" -j 2 ;;
+    "mpirun -np 2 -j 1") mpirun -np 2 --bind-to none "$BIN" "${COMMON[@]}" -j 1 ;;
+    esac
+}
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 for ((r = 1; r <= ROUNDS; r++)); do
     for name in "${NAMES[@]}"; do
         start=$(date +%s.%N)
-        ${CMD[$name]} >"$TMP/out" 2>&1 || { echo "bench.sh: '$name' failed:"; cat "$TMP/out"; exit 1; }
+        run_config "$name" >"$TMP/out" 2>&1 || { echo "bench.sh: '$name' failed:"; cat "$TMP/out"; exit 1; }
         end=$(date +%s.%N)
         rate=$(sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$TMP/out")
-        echo "$rate" >>"$TMP/rate.$r.${name// /_}"
         echo "$rate" >>"$TMP/rate.${name// /_}"
         awk -v a="$end" -v b="$start" 'BEGIN {printf "%.3f\n", a - b}' >>"$TMP/wall.${name// /_}"
     done

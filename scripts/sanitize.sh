@@ -7,7 +7,11 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 RT_EXTRA_PACKAGES="valgrind" "$ROOT/scripts/setup.sh" "$ROOT/build-asan" -DRT_SANITIZE=ON -DBUILD_TESTING=ON \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_pml=${OMPI_MCA_pml:-ob1}
+source "$ROOT/scripts/mpi_env.sh"
+# The release build's serial program for valgrind (built, or brought up to
+# date, here: running this script alone must not test a stale binary).
+"$ROOT/scripts/setup.sh" "$ROOT/build" -DBUILD_TESTING=ON >/dev/null
+cmake --build "$ROOT/build" --target rt-mpi-serial >/dev/null
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT

@@ -14,17 +14,7 @@ PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
 PACKAGES+=(libcjson-dev libopenexr-dev imagemagick python3)
 PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 
-missing=()
-for p in "${PACKAGES[@]}"; do
-    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-    echo "setup: installing ${missing[*]}" >&2
-    SUDO=""
-    [ "$(id -u)" -eq 0 ] || SUDO="sudo"
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
-fi
+"$ROOT/scripts/install_packages.sh" "${PACKAGES[@]}"
 
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "$@" >&2
 cmake --build "$BUILD" -j "$(nproc)" >&2

@@ -20,7 +20,7 @@ share cores, as in an oversubscribed test run).
 
 Machine model (every number is an option; see docs/SCALING.md):
   - each message takes --latency seconds from sender to receiver;
-  - rank 0 handles one message at a time (one MPI thread, blocking receive):
+  - rank 0 handles one message at a time (one MPI thread that polls and naps):
     a result of B bytes (rows*width*3*8 + 32) occupies it for
     service_msg + B*service_byte + B/bandwidth seconds, a request (hello)
     for service_msg per unit it hands out; the reply (the next unit, or

@@ -107,9 +107,8 @@ phase_tools() {
         exit 77
     fi
     log "installing: ${missing[*]}"
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
-    apt-get install -y -qq "${missing[@]}" >"$WORK/apt.log" 2>&1 || { tail -n 30 "$WORK/apt.log" >&2; return 1; }
+    "$(dirname "${BASH_SOURCE[0]}")/../install_packages.sh" "${missing[@]}" >"$WORK/apt.log" 2>&1 ||
+        { tail -n 30 "$WORK/apt.log" >&2; return 1; }
 }
 
 # Mirror the host's apt configuration (the only network reachable here may be
@@ -235,12 +234,10 @@ phase_ctr() {
 
 phase_host() {
     [ -x "$HOST_BIN" ] || { log "host binary not found/executable: $HOST_BIN"; return 1; }
-    local asroot=()
-    if [ "$(id -u)" -eq 0 ]; then asroot=(--allow-run-as-root); fi
-    # Same MCA settings as the image, so both runs take the same code paths.
-    OMPI_MCA_pml=ob1 OMPI_MCA_btl=self,vader,tcp OMPI_MCA_btl_vader_single_copy_mechanism=none \
-    OMPI_MCA_hwloc_base_binding_policy=none OMPI_MCA_rmaps_base_oversubscribe=1 \
-    nice -n "$NICE" mpirun "${asroot[@]}" -np "$NP" "$HOST_BIN" "${RENDER_ARGS[@]}" -o "$WORK/h.png" \
+    # The image hash does not depend on the MPI transport (the determinism
+    # tests show it), so the host runs with the project's usual settings.
+    source "$(dirname "${BASH_SOURCE[0]}")/../mpi_env.sh"
+    nice -n "$NICE" mpirun -np "$NP" --oversubscribe --bind-to none "$HOST_BIN" "${RENDER_ARGS[@]}" -o "$WORK/h.png" \
         >"$WORK/host.out" 2>"$WORK/host.err" \
         || { cat "$WORK/host.out" "$WORK/host.err" >&2; return 1; }
 }

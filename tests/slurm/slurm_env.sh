@@ -37,28 +37,13 @@ _slurm_log() { printf '[slurm_env] %s\n' "$*" >&2; }
 
 # slurm_install: install slurm-wlm + munge (and openmpi-bin) when missing.
 slurm_install() {
-    local need=() c
-    for c in slurmctld slurmd sbatch srun scontrol sinfo squeue munged; do
-        command -v "$c" >/dev/null 2>&1 || PATH="$PATH:/usr/sbin:/sbin" command -v "$c" >/dev/null 2>&1 || need+=("$c")
-    done
-    local pkgs=()
-    [[ ${#need[@]} -gt 0 ]] && pkgs+=(slurm-wlm munge)
-    command -v mpirun >/dev/null 2>&1 || pkgs+=(openmpi-bin)
-    if [[ ${#pkgs[@]} -eq 0 ]]; then
-        _slurm_log "slurm/munge/mpirun already installed"
+    if [[ $(id -u) -ne 0 ]] && ! command -v sudo >/dev/null 2>&1; then
+        command -v slurmctld >/dev/null 2>&1 || PATH="$PATH:/usr/sbin:/sbin" command -v slurmctld >/dev/null 2>&1 ||
+            { _slurm_log "FAIL: Slurm missing and cannot install (not root)"; return 1; }
         return 0
     fi
-    if [[ $(id -u) -ne 0 ]] || ! command -v apt-get >/dev/null 2>&1; then
-        _slurm_log "FAIL: missing ${pkgs[*]} and cannot apt-get (need root + apt)"
-        return 1
-    fi
-    _slurm_log "installing ${pkgs[*]} with apt-get"
-    local apt=(apt-get -o DPkg::Lock::Timeout=300 -o Dpkg::Options::=--force-confdef
-               -o Dpkg::Options::=--force-confold)
-    DEBIAN_FRONTEND=noninteractive "${apt[@]}" update -qq >/dev/null ||
-        { _slurm_log "FAIL: apt-get update"; return 1; }
-    DEBIAN_FRONTEND=noninteractive "${apt[@]}" install -y -q "${pkgs[@]}" >/dev/null ||
-        { _slurm_log "FAIL: apt-get install ${pkgs[*]}"; return 1; }
+    "$(dirname "${BASH_SOURCE[0]}")/../../scripts/install_packages.sh" slurm-wlm munge openmpi-bin >/dev/null ||
+        { _slurm_log "FAIL: installing slurm-wlm munge openmpi-bin"; return 1; }
 }
 
 # Is TCP port $1 on localhost free? (something answers -> in use)
