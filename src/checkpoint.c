@@ -104,35 +104,15 @@ int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committe
                  uint32_t *rows_done, char *why, size_t whylen)
 {
     why[0] = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
+    char *raw;
+    size_t len;
+    int st = rt_file_read_all(path, (size_t)-1 / 2, &raw, &len);
+    if (st == RT_EIO)
         snprintf(why, whylen, "%s", strerror(errno));
-        return RT_EIO;
-    }
-    uint8_t *data = NULL;
-    size_t len = 0, cap = 0;
-    for (;;) {
-        if (len == cap) {
-            cap = cap ? cap * 2 : 1 << 16;
-            uint8_t *q = realloc(data, cap);
-            if (!q) {
-                free(data);
-                fclose(fp);
-                return RT_ENOMEM;
-            }
-            data = q;
-        }
-        size_t n = fread(data + len, 1, cap - len, fp);
-        len += n;
-        if (n == 0)
-            break;
-    }
-    int rerr = ferror(fp);
-    fclose(fp);
-    int st = RT_OK;
-    if (rerr) {
-        st = RT_EIO;
-    } else if (len < 8 || memcmp(data, MAGIC, 8) != 0) {
+    if (st)
+        return st;
+    uint8_t *data = (uint8_t *)raw;
+    if (len < 8 || memcmp(data, MAGIC, 8) != 0) {
         snprintf(why, whylen, "not an rt-mpi checkpoint");
         st = RT_EFORMAT;
     } else if (len < HEADER_BYTES + 8 || get_u64(data + len - 8) != rt_hash_bytes(RT_HASH_INIT, data, len - 8)) {

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "array.h"
 #include "status.h"
 
 static char *dir_of(const char *path)
@@ -111,4 +112,39 @@ int rt_file_check_writable(const char *path)
         st = RT_EACCESS;
     free(dir);
     return st;
+}
+
+int rt_file_read_all(const char *path, size_t max, char **buf, size_t *len)
+{
+    *buf = NULL;
+    *len = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return RT_EIO;
+    char *data = NULL;
+    size_t n = 0, cap = 0, got;
+    int st = RT_OK;
+    do {
+        if (n + 1 >= cap && (st = rt_array_reserve((void **)&data, &cap, n + 65536, 1)) != RT_OK)
+            break;
+        got = fread(data + n, 1, cap - n - 1, fp);
+        n += got;
+        if (n > max)
+            st = RT_EOVERFLOW;
+    } while (!st && got > 0);
+    if (!st && ferror(fp))
+        st = RT_EIO;
+    int e = errno;
+    fclose(fp);
+    if (st) {
+        free(data);
+        errno = e;
+        return st;
+    }
+    if (!data && (data = malloc(1)) == NULL)
+        return RT_ENOMEM;
+    data[n] = 0;
+    *buf = data;
+    *len = n;
+    return RT_OK;
 }

@@ -26,4 +26,9 @@ void rt_atomic_abort(rt_atomic_file *f);
  * is not writable. Creates nothing. */
 int rt_file_check_writable(const char *path);
 
+/* Reads the whole file (a regular file, a pipe, /dev/stdin) into a malloc'd
+ * buffer with one spare NUL byte after *len bytes. RT_EIO (errno kept) when
+ * it cannot be opened or read, RT_EOVERFLOW past max bytes. */
+int rt_file_read_all(const char *path, size_t max, char **buf, size_t *len);
+
 #endif

@@ -13,7 +13,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "array.h"
 #include "camera.h"
@@ -426,34 +425,17 @@ int rt_scene_json_parse(rt_scene *s, const char *text, size_t len, const char *n
 int rt_scene_json_load(rt_scene *s, const char *path, char *err, size_t errlen)
 {
     ctx c = {path, err, errlen};
-    rt_scene_init(s);
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return fail(&c, RT_EIO, "", "cannot open: %s", strerror(errno));
-    struct stat sb;
-    if (fstat(fileno(fp), &sb) != 0 || S_ISDIR(sb.st_mode) || !S_ISREG(sb.st_mode)) {
-        fclose(fp);
-        return fail(&c, RT_EIO, "", "not a regular file");
-    }
-    if ((unsigned long long)sb.st_size > RT_SCENE_JSON_MAX_BYTES) {
-        fclose(fp);
-        return fail(&c, RT_EOVERFLOW, "", "larger than %u MiB", RT_SCENE_JSON_MAX_BYTES >> 20);
-    }
-    size_t n = (size_t)sb.st_size;
-    char *buf = malloc(n ? n : 1);
-    if (!buf) {
-        fclose(fp);
-        return fail(&c, RT_ENOMEM, "", "out of memory");
-    }
-    size_t got = fread(buf, 1, n, fp);
-    int read_err = ferror(fp) || got != n;
-    int e = errno;
-    fclose(fp);
-    if (read_err) {
-        free(buf);
-        return fail(&c, RT_EIO, "", "read error: %s", got != n && !e ? "file changed while reading" : strerror(e));
-    }
-    int st = rt_scene_json_parse(s, buf, n, path, err, errlen);
+    rt_scene_init(s); /* valid (empty) also when the file cannot be read */
+    char *buf;
+    size_t n;
+    int st = rt_file_read_all(path, RT_SCENE_JSON_MAX_BYTES, &buf, &n);
+    if (st == RT_EOVERFLOW)
+        return fail(&c, st, "", "larger than %u MiB", RT_SCENE_JSON_MAX_BYTES >> 20);
+    if (st == RT_EIO)
+        return fail(&c, st, "", "cannot read: %s", strerror(errno));
+    if (st)
+        return fail(&c, st, "", "%s", rt_status_str(st));
+    st = rt_scene_json_parse(s, buf, n, path, err, errlen);
     free(buf);
     return st;
 }

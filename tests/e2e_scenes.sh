@@ -74,7 +74,7 @@ expect_usage_error "scene file: bad JSON" "$WORK/syntax.json: line 1, column [0-
     "$BIN" "${ARGS[@]}" --scene-file "$WORK/syntax.json" -o "$O/x.png"
 expect_usage_error "scene file: unknown field" "$WORK/field.json: lights: unknown field" \
     "$BIN" "${ARGS[@]}" --scene-file "$WORK/field.json" -o "$O/x.png"
-expect_usage_error "scene file: missing" "$WORK/nope.json: cannot open: No such file or directory$" \
+expect_usage_error "scene file: missing" "$WORK/nope.json: cannot read: No such file or directory$" \
     "$BIN" "${ARGS[@]}" --scene-file "$WORK/nope.json" -o "$O/x.png"
 expect_usage_error "scene file: dump of a bad file" "$WORK/radius.json: spheres\[3\].radius" \
     "$BIN" --scene-file "$WORK/radius.json" --dump-scene "$O/x.json"

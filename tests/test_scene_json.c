@@ -221,9 +221,9 @@ int main(int argc, char **argv)
 
     /* Files: unreadable ones are RT_EIO with the reason; dumps are atomic. */
     CHECK_EQ_INT(rt_scene_json_load(&s, "/nonexistent/scene.json", err, sizeof err), RT_EIO);
-    CHECK(!strcmp(err, "/nonexistent/scene.json: cannot open: No such file or directory"));
+    CHECK(!strcmp(err, "/nonexistent/scene.json: cannot read: No such file or directory"));
     CHECK_EQ_INT(rt_scene_json_load(&s, "/", err, sizeof err), RT_EIO);
-    CHECK(!strcmp(err, "/: not a regular file"));
+    CHECK(!strcmp(err, "/: cannot read: Is a directory"));
     char dir[] = "/tmp/rt-json-XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
     char path[256];

@@ -6,32 +6,21 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fileio.h"
 #include "scene_json_check.h"
+#include "status.h"
 
 static int passed, failed;
 
 static void run_file(const char *path)
 {
-    FILE *fp = fopen(path, "rb");
-    uint8_t *buf = NULL;
-    size_t len = 0, cap = 0, n;
-    if (fp) {
-        do {
-            if (len == cap) {
-                uint8_t *q = realloc(buf, cap = cap ? 2 * cap : 4096);
-                if (!q)
-                    break;
-                buf = q;
-            }
-            n = fread(buf + len, 1, cap - len, fp);
-            len += n;
-        } while (n > 0);
-    }
-    if (!fp || ferror(fp)) {
+    char *buf = NULL;
+    size_t len = 0;
+    if (rt_file_read_all(path, (size_t)-1 / 2, &buf, &len) != RT_OK) {
         printf("FAIL: %s: cannot read\n", path);
         failed++;
     } else {
-        const char *bad = fuzz_scene_json_check(buf ? buf : (const uint8_t *)"", len);
+        const char *bad = fuzz_scene_json_check((const uint8_t *)buf, len);
         if (bad) {
             printf("FAIL: %s: %s\n", path, bad);
             failed++;
@@ -39,8 +28,6 @@ static void run_file(const char *path)
             passed++;
         }
     }
-    if (fp)
-        fclose(fp);
     free(buf);
 }
 
