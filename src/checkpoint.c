@@ -29,7 +29,7 @@ static void put(hwriter *w, const void *p, size_t n)
         return;
     w->h = rt_hash_bytes(w->h, p, n);
     if (fwrite(p, 1, n, w->fp) != n)
-        w->err = errno == ENOSPC ? RT_ENOSPACE : RT_EIO;
+        w->err = rt_status_from_errno(errno);
 }
 static void put_u32(hwriter *w, uint32_t v)
 {

@@ -38,7 +38,7 @@ int rt_atomic_open(rt_atomic_file *f, const char *path)
         free(f->tmp_path);
         f->tmp_path = NULL;
         rt_atomic_abort(f);
-        return errno == ENOSPC ? RT_ENOSPACE : RT_EIO;
+        return rt_status_from_errno(errno);
     }
     mode_t mask = umask(0);
     umask(mask);
@@ -56,11 +56,11 @@ int rt_atomic_commit(rt_atomic_file *f)
 {
     int st = RT_OK;
     if (fflush(f->fp) != 0 || ferror(f->fp))
-        st = errno == ENOSPC ? RT_ENOSPACE : RT_EIO;
+        st = rt_status_from_errno(errno);
     if (!st && fsync(fileno(f->fp)) != 0)
-        st = errno == ENOSPC ? RT_ENOSPACE : RT_EIO;
+        st = rt_status_from_errno(errno);
     if (fclose(f->fp) != 0 && !st)
-        st = errno == ENOSPC ? RT_ENOSPACE : RT_EIO;
+        st = rt_status_from_errno(errno);
     f->fp = NULL;
     if (!st && rename(f->tmp_path, f->final_path) != 0)
         st = RT_EIO;

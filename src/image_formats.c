@@ -46,7 +46,7 @@ int rt_image_check_opts(rt_image_format fmt, const rt_image_write_opts *o)
     return fmt == RT_FORMAT_UNKNOWN ? RT_EUNSUPPORTED : RT_OK;
 }
 
-static int io_status(void) { return errno == ENOSPC ? RT_ENOSPACE : RT_EIO; }
+static int io_status(void) { return rt_status_from_errno(errno); }
 
 /* Writes n bytes or aborts f; returns the status. */
 static int put_bytes(rt_atomic_file *f, const void *p, size_t n)
@@ -300,7 +300,7 @@ static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_
     if (rv || fin) {
         rt_atomic_abort(&f);
         if (sink.err)
-            return sink.err == ENOSPC ? RT_ENOSPACE : RT_EIO;
+            return rt_status_from_errno(sink.err);
         return (rv ? rv : fin) == EXR_ERR_OUT_OF_MEMORY ? RT_ENOMEM : RT_EIO;
     }
     return rt_atomic_commit(&f);

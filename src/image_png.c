@@ -43,7 +43,7 @@ int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t hei
     }
     if (setjmp(png_jmpbuf(png))) {
         /* libpng reports a failed fwrite as a generic "Write Error". */
-        int full = errno == ENOSPC || errno == EDQUOT;
+        int full = rt_status_from_errno(errno) == RT_ENOSPACE;
         png_destroy_write_struct(&png, &info);
         free(chunks);
         rt_atomic_abort(&f);

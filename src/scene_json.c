@@ -560,12 +560,10 @@ int rt_scene_json_dump(const rt_scene *s, const char *path)
     rt_atomic_file f;
     st = rt_atomic_open(&f, path);
     if (!st) {
-        if (fwrite(text, 1, len, f.fp) != len) {
-            rt_atomic_abort(&f);
-            st = RT_EIO;
-        } else {
-            st = rt_atomic_commit(&f);
-        }
+        /* a short write leaves ferror set: commit reports it (full disk
+         * included) and removes the temporary file */
+        (void)fwrite(text, 1, len, f.fp);
+        st = rt_atomic_commit(&f);
     }
     free(text);
     return st;

@@ -1,6 +1,8 @@
 /* status.c - maps status codes to messages (one table, see status.h). */
 #include "status.h"
 
+#include <errno.h>
+
 const char *rt_status_str(int status)
 {
     switch (status) {
@@ -12,3 +14,5 @@ const char *rt_status_str(int status)
     }
     return "unknown error";
 }
+
+int rt_status_from_errno(int e) { return e == ENOSPC || e == EDQUOT ? RT_ENOSPACE : RT_EIO; }

@@ -26,6 +26,10 @@ typedef enum rt_status {
 #undef RT_STATUS_ENUM
 } rt_status;
 
+/* The status for a failed system call's errno: RT_ENOSPACE for a full disk
+ * or quota, RT_EIO otherwise. */
+int rt_status_from_errno(int e);
+
 /* Human-readable text for a status code; never NULL. */
 const char *rt_status_str(int status);
 
