@@ -1,11 +1,11 @@
 #!/bin/bash
-# e2e_formats.sh BIN IMGREAD [CONVERT]
+# e2e_formats.sh BIN IMGREAD CONVERT [MPIRUN]
 # One render written as 8-bit PNG, binary and ASCII PPM, 16-bit PPM and PNG,
 # BMP, PFM and EXR: every run prints the same image hash, and
 # formats_check.py reads each file back with an independent reader (its own
 # parsers, ImageMagick, libpng, OpenEXR) and compares the pixels with the
 # PNG's. Then the refusals: unknown extension, options that do not fit.
-BIN=$1 IMGREAD=$2 CONVERT=${3:-convert}
+BIN=$1 IMGREAD=$2 CONVERT=${3:-convert} MPIRUN=${4:-}
 source "$(dirname "$0")/lib.sh"
 ARGS=(--scene materials --width 67 --height 41 -s 8 -j 2 -q)
 D="$WORK/img"
@@ -32,6 +32,13 @@ render out.bmp
 render out.pfm
 render out.exr
 ls "$D" | grep -q '\.tmp\.' && fail "a temporary file was left behind" || pass "no temporary files"
+# Under MPI every format is the same file byte for byte.
+if [ -n "$MPIRUN" ]; then
+    for f in p6.ppm out.bmp out.pfm out.exr; do
+        mpirun_np 2 "$BIN" "${ARGS[@]}" -j 1 -o "$WORK/mpi-$f" >/dev/null 2>&1
+        cmp -s "$WORK/mpi-$f" "$D/$f" && pass "$f: mpirun -np 2 writes the same bytes" || fail "$f: mpirun -np 2 differs"
+    done
+fi
 
 # ImageMagick (the real one: convert as a package installs it) decodes the
 # 8-bit files; libpng and OpenEXR decode the 16-bit PNG and the EXR.

@@ -43,6 +43,11 @@ check_eq "four scenes, four different images" "$(echo $hashes | tr ' ' '\n' | so
 # The seeded final scene of another seed and grid round-trips too.
 "$BIN" --seed 7 --grid 3 --dump-scene "$WORK/f7.json" && "$BIN" --scene-file "$WORK/f7.json" --dump-scene "$WORK/f7b.json"
 cmp -s "$WORK/f7.json" "$WORK/f7b.json" && pass "final --seed 7 --grid 3: dump round trip" || fail "f7 dumps differ"
+# ... and renders as the seeded scene does, given the same --seed (it also
+# keys the sampling).
+"$BIN" "${ARGS[@]}" --seed 7 --grid 3 -o "$WORK/f7.png" >/dev/null 2>&1
+"$BIN" "${ARGS[@]}" --seed 7 --scene-file "$WORK/f7.json" -o "$WORK/f7file.png" >/dev/null 2>&1
+check_eq "final --seed 7 --grid 3 from its dump: decoded pixels" "$("$PNGINFO" "$WORK/f7file.png")" "$("$PNGINFO" "$WORK/f7.png")"
 if [ -n "$MPIRUN" ]; then
     mpirun_np 2 "$BIN" "${ARGS[@]}" -j 1 --scene-file "$WORK/defocus.json" -o "$WORK/mpi.png" >"$WORK/mpi.out" 2>&1
     check_eq "mpirun -np 2 --scene-file: same pixels" "$("$PNGINFO" "$WORK/mpi.png")" "$("$PNGINFO" "$WORK/defocus.png")"
