@@ -10,13 +10,14 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define RT_CKPT_VERSION 2u
+#define RT_CKPT_VERSION 3u
 
 /* Everything that changes a pixel. */
 typedef struct rt_ckpt_job {
     uint32_t width, height, samples, max_depth;
     uint32_t diffuse, exact; /* exact = 0 only for the Embree intersector */
     uint64_t seed, scene_hash;
+    uint32_t sampling; /* RT_RENDER_SAMPLING of the build */
 } rt_ckpt_job;
 
 /* committed: per row, the samples [0, committed) its sums cover; acc:

@@ -281,7 +281,7 @@ int main(int argc, char **argv)
     job.checkpoint = opt.checkpoint;
     job.checkpoint_interval = opt.checkpoint_interval;
     rt_ckpt_job ck = {opt.width, opt.height, opt.samples, opt.max_depth, (uint32_t)opt.diffuse,
-                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash};
+                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash, RT_RENDER_SAMPLING};
     job.ckpt_job = ck;
     job.trace = opt.trace != NULL;
 

