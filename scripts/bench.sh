@@ -7,6 +7,7 @@
 #   - -j 2 vs -j 1 (thread scaling)
 #   - mpirun -np 2 -j 1 vs -j 2 (the no-wasted-core check: rank 0 serves
 #     work without stealing a core from rendering)
+#   - the intersectors alone on the renderer's rays (build/bench_accel)
 #   - with --full: the seed's headline job, 1200x800 at 500 spp, -j 0
 # Each configuration runs --rounds times (default 3), interleaved, and the
 # median is reported. Numbers: ray segments per second of the render phase
@@ -27,7 +28,7 @@ BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build") # builds (or brings up to date)
 EMBREE_BIN=$ROOT/build-embree/rt-mpi
 # The Embree comparison build: same sources, plus --accel embree (Debian's
 # libembree-dev). Skipped, with a note, when it cannot be built.
-rm -f "$EMBREE_BIN" # never benchmark a stale one
+rm -f "$EMBREE_BIN" "$ROOT/build-embree/bench_accel" # never benchmark a stale one
 if [ "${RT_BENCH_EMBREE:-1}" = 1 ]; then
     RT_EXTRA_PACKAGES=libembree-dev "$ROOT/scripts/setup.sh" "$ROOT/build-embree" -DRT_EMBREE=ON \
         -DBUILD_TESTING=OFF >/dev/null 2>&1 || echo "bench.sh: no Embree build (libembree-dev unavailable?)" >&2
@@ -80,6 +81,11 @@ fi
 echo "  -j 2 / -j 1:                             $(ratio "${RATE[bvh -j 2]}" "${RATE[bvh -j 1]}")"
 echo "  mpirun -np 2 -j 1 / -j 2 (render rate):  $(ratio "${RATE[mpirun -np 2 -j 1]}" "${RATE[bvh -j 2]}")"
 echo "  mpirun -np 2 -j 1 / -j 2 (command wall): $(ratio "${WALL[bvh -j 2]}" "${WALL[mpirun -np 2 -j 1]}")"
+# The intersectors alone (closest hits of the renderer's own rays, no
+# shading): what the acceleration structure itself gains over brute force.
+ACCEL_BENCH=$ROOT/build/bench_accel
+[ -x "$EMBREE_BIN" ] && ACCEL_BENCH=$ROOT/build-embree/bench_accel
+if [ "$W" -ge 600 ]; then "$ACCEL_BENCH" 300 8 16; else "$ACCEL_BENCH" 100 2 16; fi
 if [ $FULL -eq 1 ]; then
     echo "full job: 1200x800, 500 spp, -j 0 (seed 000: 229 s wall on a 12-thread M2 Max)"
     /usr/bin/time -v "$BIN" -s 500 -o "$TMP/full.png" -q 2>"$TMP/time" | grep -E 'wall|segments|memory|hash'

@@ -31,7 +31,10 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
-rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
+/* One sample's path; when rays is not NULL, every ray traced is stored
+ * there (rt_render_sample passes NULL, and the stores fold away). */
+static inline rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments,
+                                 rt_ray *rays)
 {
     const uint32_t W = r->p.width, H = r->p.height;
     rt_rng rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
@@ -44,6 +47,8 @@ rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t 
     uint64_t segs = 0;
     for (uint32_t depth = 0; depth < r->p.max_depth; depth++) {
         rt_hit hit;
+        if (rays)
+            rays[segs] = ray;
         segs++;
         if (!rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit)) {
             rt_vec3 ud = rt_v3_unit(ray.dir);
@@ -64,6 +69,18 @@ rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t 
     }
     *segments += segs;
     return rt_v3(0, 0, 0);
+}
+
+rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
+{
+    return trace_path(r, x, y, sample, segments, NULL);
+}
+
+uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
+{
+    uint64_t segs = 0;
+    trace_path(r, x, y, sample, &segs, rays);
+    return (uint32_t)segs;
 }
 
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,

@@ -54,6 +54,10 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
  * number of ray segments traced to *segments. */
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments);
 
+/* The rays that sample traces, in order (rays holds max_depth entries);
+ * returns how many. For timing intersectors on the renderer's own rays. */
+uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays);
+
 /* Called now and then (between pixels) by the thread that called
  * rt_render_rows, so a caller can keep communication moving while the
  * OpenMP team renders. */

@@ -57,6 +57,27 @@ int main(void)
     rt_render_rows(&r2, 0, p.height, 0, p.samples, alt, 1, NULL, NULL);
     CHECK(memcmp(ref, alt, n * sizeof *ref) != 0);
 
+    /* The rays a sample traces (bench_accel's input): as many as the
+     * segments it counts, starting from the camera, each from where the
+     * previous one hit. */
+    rt_ray path[20];
+    long total_rays = 0, total_segs = 0, chained = 1;
+    for (uint32_t k = 0; k < 200; k++) {
+        uint64_t segs = 0;
+        rt_render_sample(&r, k % p.width, k % p.height, k, &segs);
+        uint32_t m = rt_render_sample_rays(&r, k % p.width, k % p.height, k, path);
+        total_rays += m;
+        total_segs += (long)segs;
+        for (uint32_t i = 1; i < m; i++) {
+            rt_hit h;
+            chained &= rt_accel_closest(a, &path[i - 1], 0.001, INFINITY, &h) &&
+                       rt_v3_len(rt_v3_sub(rt_ray_at(&path[i - 1], h.t), path[i].orig)) == 0.0;
+        }
+    }
+    CHECK_EQ_INT(total_rays, total_segs);
+    CHECK(total_rays > 200);
+    CHECK(chained);
+
     /* Tone mapping: the book's gamma 2 and 0.999 clamp. */
     int64_t px[6] = {0, (int64_t)(0.25 * RT_FIX_ONE) * 4, (int64_t)(4.0 * RT_FIX_ONE) * 4, 0, 0, 0};
     uint8_t out[6];
