@@ -2,14 +2,13 @@
 # render.sh [rt-mpi options...]
 # From a fresh Debian 12 machine: installs what is missing, builds, and
 # renders the default scene (book 1 final scene, 1200x800) with every rank
-# and core of this machine. Without options it renders 100 samples per
-# pixel, which takes about a minute on 2 cores; the full 500-spp job is
+# and core of this machine into output.png, at 100 samples per pixel unless
+# the options say otherwise (the last -s or -o given wins); the full
+# 500-spp job is
 #   scripts/render.sh -s 500
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
-[ $# -gt 0 ] || set -- -s 100
 # One process here: its OpenMP threads use every core (see README for
 # mpirun and Slurm).
-"$BIN" -o "$ROOT/output.png" "$@"
-echo "wrote $ROOT/output.png" >&2
+"$BIN" -o "$ROOT/output.png" -s 100 "$@"

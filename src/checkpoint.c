@@ -1,8 +1,8 @@
 /* checkpoint.c - checkpoint file format (little endian throughout):
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
- *   exact | u64 seed scene_hash | u32 sampling | u32 rows with samples | height u32 sample
- *   counts | for each row with samples, width*3 i64 sums | u64 FNV-1a of all
- *   before. */
+ *   exact | u64 seed scene_hash | u32 sampling | u32 rows with samples |
+ *   height u32 sample counts | for each row with samples, width*3 i64 sums |
+ *   u64 FNV-1a of all before. */
 #include "checkpoint.h"
 
 #include <errno.h>

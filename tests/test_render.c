@@ -58,8 +58,7 @@ int main(void)
     CHECK(memcmp(ref, alt, n * sizeof *ref) != 0);
 
     /* The rays a sample traces (bench_accel's input): as many as the
-     * segments it counts, starting from the camera, each from where the
-     * previous one hit. */
+     * segments it counts, each from where the previous one hit. */
     rt_ray path[20];
     long total_rays = 0, total_segs = 0, chained = 1;
     for (uint32_t k = 0; k < 200; k++) {
