@@ -166,7 +166,7 @@ int main(int argc, char **argv)
             if (action == RT_CLI_HELP)
                 fputs(rt_cli_usage(), stdout);
             else if (action == RT_CLI_VERSION)
-                printf("rt-mpi %s\n", RT_VERSION);
+                printf("rt-mpi %s (sampling version %u)\n", RT_VERSION, RT_RENDER_SAMPLING);
             for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++)
                 printf("%-10s %s\n", rt_scenes_info(i)->name, rt_scenes_info(i)->summary);
         }
@@ -333,8 +333,9 @@ int main(int argc, char **argv)
             rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the output image");
         rt_image_to_rgb8(job.acc, npix, opt.samples, rgb);
         uint64_t hash = rt_image_hash(rgb, npix * 3);
-        char seed_s[32], spp_s[32], cmdline[512];
+        char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
         snprintf(seed_s, sizeof seed_s, "%" PRIu64, opt.seed);
+        snprintf(sampling_s, sizeof sampling_s, "%u", RT_RENDER_SAMPLING);
         snprintf(spp_s, sizeof spp_s, "%u", opt.samples);
         repro_command(&opt, cmdline, sizeof cmdline);
         rt_text text[] = {
@@ -342,8 +343,11 @@ int main(int argc, char **argv)
             {"rt-mpi:seed", seed_s},
             {"rt-mpi:samples", spp_s},
             {"rt-mpi:command", cmdline},
+            /* Which random numbers the samples drew: the command reproduces
+             * this image only with a build of the same sampling version. */
+            {"rt-mpi:sampling", sampling_s},
         };
-        rt_image_write_opts wo = {opt.bit_depth, opt.ppm_ascii, text, 4};
+        rt_image_write_opts wo = {opt.bit_depth, opt.ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
         st = rt_image_write(opt.output, job.acc, opt.width, opt.height, opt.samples, &wo);
         if (st) {
             /* Keep the finished work: a resume only has to write the image. */

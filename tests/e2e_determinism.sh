@@ -12,6 +12,16 @@ info=$("$PNGINFO" "$WORK/ref.png")
 check_eq "reference is a valid 96x64 PNG" "${info%% *}" "96x64"
 want_hash=$(sed -n 's/^image hash: *//p' "$WORK/ref.out")
 check_eq "printed image hash matches decoded pixels" "${info#* }" "$want_hash"
+# The PNG names how it was made: its command (with this build's sampling
+# version, also in --version) renders the same bytes again.
+"$PNGINFO" --text "$WORK/ref.png" >"$WORK/ref.text"
+check_eq "PNG records the sampling version of --version" "$(sed -n 's/^rt-mpi:sampling=//p' "$WORK/ref.text")" \
+    "$("$BIN" --version | sed -n 's/.*(sampling version \([0-9]*\)).*/\1/p')"
+read -r -a cmd <<<"$(sed -n 's/^rt-mpi:command=rt-mpi //p' "$WORK/ref.text")"
+check_eq "PNG records the options" "${cmd[*]}" \
+    "--scene final --grid 11 --width 96 --height 64 --samples 4 --max-depth 50 --seed 42 --diffuse lambertian --accel bvh"
+"$BIN" "${cmd[@]}" -q -o "$WORK/again.png" >/dev/null
+cmp -s "$WORK/ref.png" "$WORK/again.png" && pass "the PNG's own command renders it again" || fail "the PNG's command gives another image"
 
 same_as_ref() { # label file
     if cmp -s "$WORK/ref.png" "$2"; then pass "$1: identical bytes"; else fail "$1: differs from reference"; fi

@@ -6,6 +6,29 @@
 #include <stdlib.h>
 #include <string.h>
 
+int test_read_png_text(const char *path, void (*fn)(void *arg, const char *key, const char *text), void *arg)
+{
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return -1;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    int rc = -1;
+    if (info && !setjmp(png_jmpbuf(png))) {
+        png_init_io(png, fp);
+        png_read_info(png, info);
+        png_textp t;
+        int n = 0;
+        png_get_text(png, info, &t, &n);
+        for (int i = 0; i < n; i++)
+            fn(arg, t[i].key, t[i].text);
+        rc = 0;
+    }
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return rc;
+}
+
 int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h)
 {
     *rgb = NULL;

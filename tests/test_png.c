@@ -8,28 +8,25 @@
 
 #include "check.h"
 #include "image_io.h"
+#include "readers.h"
 #include "status.h"
 
+typedef struct wanted {
+    const char *key, *value;
+    int found;
+} wanted;
+
+static void match_chunk(void *arg, const char *key, const char *text)
+{
+    wanted *w = arg;
+    w->found += !strcmp(key, w->key) && !strcmp(text, w->value);
+}
+
+/* Text chunks of the file with that key and value; -1 if unreadable. */
 static int count_text(const char *path, const char *key, const char *value)
 {
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return -1;
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png_create_info_struct(png);
-    int found = 0;
-    if (!setjmp(png_jmpbuf(png))) {
-        png_init_io(png, fp);
-        png_read_info(png, info);
-        png_textp t;
-        int n = 0;
-        png_get_text(png, info, &t, &n);
-        for (int i = 0; i < n; i++)
-            found += !strcmp(t[i].key, key) && !strcmp(t[i].text, value);
-    }
-    png_destroy_read_struct(&png, &info, NULL);
-    fclose(fp);
-    return found;
+    wanted w = {key, value, 0};
+    return test_read_png_text(path, match_chunk, &w) ? -1 : w.found;
 }
 
 int main(void)
