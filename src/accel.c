@@ -1,5 +1,6 @@
-/* accel.c - the intersector front end: dispatch to our BVH, brute force
- * (every sphere for every ray, as the seed renderers do) or Embree. */
+/* accel.c - the intersector front end: dispatch to our BVH (SIMD or
+ * portable box test), brute force (every sphere for every ray, as the seed
+ * renderers do) or Embree. */
 #include "accel.h"
 
 #include <stdlib.h>
@@ -31,6 +32,7 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
     int st = RT_OK;
     switch (kind) {
     case RT_ACCEL_BVH:
+    case RT_ACCEL_BVH_SCALAR:
         st = rt_bvh_build(&a->bvh, s);
         break;
     case RT_ACCEL_BRUTE:
@@ -89,6 +91,8 @@ int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double t
     switch (a->kind) {
     case RT_ACCEL_BVH:
         return rt_bvh_closest(a->bvh, ray, tmin, tmax, hit);
+    case RT_ACCEL_BVH_SCALAR:
+        return rt_bvh_closest_portable(a->bvh, ray, tmin, tmax, hit);
 #ifdef RT_HAVE_EMBREE
     case RT_ACCEL_EMBREE:
         return rt_embree_closest(a->embree, a->scene, ray, tmin, tmax, hit);
@@ -107,6 +111,8 @@ const char *rt_accel_name(rt_accel_kind kind)
         return "brute";
     case RT_ACCEL_EMBREE:
         return "embree";
+    case RT_ACCEL_BVH_SCALAR:
+        return "bvh-scalar";
     }
     return "?";
 }
@@ -119,6 +125,8 @@ int rt_accel_parse(const char *name)
         return RT_ACCEL_BRUTE;
     if (!strcmp(name, "embree"))
         return RT_ACCEL_EMBREE;
+    if (!strcmp(name, "bvh-scalar"))
+        return RT_ACCEL_BVH_SCALAR;
     return -1;
 }
 

@@ -14,6 +14,7 @@ typedef enum rt_accel_kind {
     RT_ACCEL_BVH = 0,
     RT_ACCEL_BRUTE = 1,
     RT_ACCEL_EMBREE = 2,
+    RT_ACCEL_BVH_SCALAR = 3, /* our BVH with the portable box test (as non-x86 nodes run it) */
 } rt_accel_kind;
 
 typedef struct rt_hit {
@@ -32,7 +33,7 @@ void rt_accel_free(rt_accel *a);
  * from many threads at once. */
 int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 
-/* "bvh", "brute", "embree"; and parsing back (-1 when unknown). */
+/* "bvh", "brute", "embree", "bvh-scalar"; and parsing back (-1 when unknown). */
 const char *rt_accel_name(rt_accel_kind kind);
 int rt_accel_parse(const char *name);
 /* Bytes the structure occupies (for the memory report). */

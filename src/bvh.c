@@ -439,7 +439,8 @@ static inline float safe_inv(double d)
  * dropped. Boxes are tested against the planes a ray meets first and last
  * (chosen once per ray by the direction's signs), so no min/max swap is
  * needed per box. */
-int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const rt_ray *ray, double tmin,
+                                                          double tmax, rt_hit *hit, const int simd)
 {
     if (!b->n_nodes)
         return 0;
@@ -460,6 +461,8 @@ int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
     const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
     const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
     const __m128 vtmin = _mm_set1_ps(tmin_f);
+#else
+    (void)simd;
 #endif
     int32_t code = 0;
     for (;;) {
@@ -472,33 +475,36 @@ int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
             float tn[4];
             int mask;
 #ifdef RT_BVH_SSE
-            __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx]), ox), ix);
-            __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny]), oy), iy);
-            __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz]), oz), iz);
-            __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx]), ox), ix);
-            __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy]), oy), iy);
-            __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz]), oz), iz);
-            __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
-            __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
-            mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf)) & n->nchild;
-            _mm_storeu_ps(tn, vn);
-#else
-            mask = 0;
-            for (int k = 0; k < 4; k++) {
-                float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
-                float t2 = (rows[nz][k] - fo[2]) * fi[2];
-                float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
-                float u2 = (rows[fz][k] - fo[2]) * fi[2];
-                float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
-                near = t2 > near ? t2 : near;
-                near = tmin_f > near ? tmin_f : near;
-                far = u2 < far ? u2 : far;
-                far = tfar_f < far ? tfar_f : far;
-                tn[k] = near;
-                mask |= (near <= far) << k;
-            }
-            mask &= n->nchild;
+            if (simd) {
+                __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx]), ox), ix);
+                __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny]), oy), iy);
+                __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz]), oz), iz);
+                __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx]), ox), ix);
+                __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy]), oy), iy);
+                __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz]), oz), iz);
+                __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
+                __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
+                mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf)) & n->nchild;
+                _mm_storeu_ps(tn, vn);
+            } else
 #endif
+            {
+                mask = 0;
+                for (int k = 0; k < 4; k++) {
+                    float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
+                    float t2 = (rows[nz][k] - fo[2]) * fi[2];
+                    float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
+                    float u2 = (rows[fz][k] - fo[2]) * fi[2];
+                    float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
+                    near = t2 > near ? t2 : near;
+                    near = tmin_f > near ? tmin_f : near;
+                    far = u2 < far ? u2 : far;
+                    far = tfar_f < far ? tfar_f : far;
+                    tn[k] = near;
+                    mask |= (near <= far) << k;
+                }
+                mask &= n->nchild;
+            }
             if (mask) {
                 int c0 = __builtin_ctz(mask);
                 mask &= mask - 1;
@@ -554,4 +560,18 @@ done:
     hit->t = closest;
     hit->prim = best;
     return 1;
+}
+
+int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+#ifdef RT_BVH_SSE
+    return closest(b, ray, tmin, tmax, hit, 1);
+#else
+    return closest(b, ray, tmin, tmax, hit, 0);
+#endif
+}
+
+int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    return closest(b, ray, tmin, tmax, hit, 0);
 }

@@ -14,6 +14,10 @@ typedef struct rt_bvh rt_bvh;
 int rt_bvh_build(rt_bvh **out, const rt_scene *s);
 void rt_bvh_free(rt_bvh *b);
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+/* The same traversal with the portable box test, a scalar loop: what builds
+ * without SSE2 (non-x86 nodes, RT_NO_SIMD) run. It finds the same hits;
+ * --accel bvh-scalar renders with it, so any node can check that. */
+int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 size_t rt_bvh_bytes(const rt_bvh *b);
 /* Structure statistics for tests and the summary. */
 void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth);

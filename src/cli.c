@@ -65,8 +65,9 @@ const char *rt_cli_usage(void)
            "  -j, --threads <THREADS>  Threads per rank (0 = all cores available to the rank) [default: 0]\n"
            "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
            "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
-           "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray) or embree\n"
-           "                           (only in builds with -DRT_EMBREE=ON) [default: bvh]\n"
+           "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray), embree\n"
+           "                           (only in builds with -DRT_EMBREE=ON) or bvh-scalar (the BVH\n"
+           "                           with the portable box test that non-x86 nodes run) [default: bvh]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
            "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
@@ -187,7 +188,7 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
     int k;
     if (!strcmp(d->lng, "accel")) {
         if ((k = rt_accel_parse(val)) < 0) {
-            snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree", name, val);
+            snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree, bvh-scalar", name, val);
             return -1;
         }
         o->accel = k;
