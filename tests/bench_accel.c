@@ -9,7 +9,7 @@
 #include <time.h>
 
 #include "accel.h"
-#include "array.h"
+#include "bench_rays.h"
 #include "render.h"
 #include "scene.h"
 #include "status.h"
@@ -78,21 +78,16 @@ int main(int argc, char **argv)
     int have_embree = rt_accel_new(&embree, &s, RT_ACCEL_EMBREE) == RT_OK;
     rt_render_params p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN};
     rt_renderer r;
-    rt_ray *rays = NULL;
-    size_t cap = 0, n = 0;
+    rt_ray *rays;
+    size_t n;
     if (rt_render_init(&r, &s, bvh, &p)) {
         fprintf(stderr, "bench_accel: cannot set up the renderer\n");
         return 1;
     }
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++)
-            for (uint32_t k = 0; k < S; k++) {
-                if (rt_array_reserve((void **)&rays, &cap, n + p.max_depth, sizeof *rays)) {
-                    fprintf(stderr, "bench_accel: out of memory\n");
-                    return 1;
-                }
-                n += rt_render_sample_rays(&r, x, y, k, rays + n);
-            }
+    if (bench_capture_rays(&r, &rays, &n)) {
+        fprintf(stderr, "bench_accel: out of memory\n");
+        return 1;
+    }
     printf("bench_accel: final scene, %ux%u, %u spp: %zu rays from the renderer's paths, %u spheres\n", W, H, S, n,
            s.n_spheres);
     printf("closest hit only, 1 thread, best of 3 (brute force on every %zu-th ray):\n", every);

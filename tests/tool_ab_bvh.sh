@@ -1,0 +1,25 @@
+#!/bin/bash
+# tool_ab_bvh.sh ROOT: scripts/ab_bvh.sh, the A/B timing of BVH versions,
+# builds and runs: the working tree against its own bvh.c agrees on every
+# ray, and against a copy whose leaves skip their last sphere it reports the
+# disagreement and fails. (Its timings are printed, never checked.)
+ROOT=$1
+source "$(dirname "$0")/lib.sh"
+AB=(bash "$ROOT/scripts/ab_bvh.sh")
+"${AB[@]}" "$ROOT/src/bvh.c" 40 1 1 >"$WORK/same.out" 2>&1
+check_eq "same bvh.c: exit status" $? 0
+grep -q "A / B speed" "$WORK/same.out" && pass "prints the speed ratio" || fail "no ratio: $(tail -3 "$WORK/same.out")"
+sed '/^static inline int leaf_hit/,/^}/ s/i < start + count;/i + 1 < start + count;/' \
+    "$ROOT/src/bvh.c" >"$WORK/broken_bvh.c"
+if cmp -s "$ROOT/src/bvh.c" "$WORK/broken_bvh.c"; then
+    fail "the leaf loop to break was not found in src/bvh.c"
+else
+    "${AB[@]}" "$WORK/broken_bvh.c" 40 1 1 >"$WORK/broken.out" 2>&1
+    status=$?
+    if [ $status -ne 0 ] && grep -q "A and B disagree on" "$WORK/broken.out"; then
+        pass "a broken B is caught: $(grep -o 'disagree on.*' "$WORK/broken.out")"
+    else
+        fail "broken B: exit status $status, $(tail -2 "$WORK/broken.out")"
+    fi
+fi
+finish
