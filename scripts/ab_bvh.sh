@@ -23,7 +23,7 @@ RENAME=()
 for f in build free closest closest_portable bytes stats; do RENAME+=(-Drt_bvh_$f=ab_bvh_$f); done
 gcc "${CFLAGS[@]}" "${RENAME[@]}" -c "$TMP/b_bvh.c" -o "$TMP/b_bvh.o"
 S=$ROOT/src
-gcc "${CFLAGS[@]}" "$ROOT/tests/ab_bvh.c" "$TMP/b_bvh.o" $S/{status,scene,camera,material,accel,bvh,render,scenes}.c \
+gcc "${CFLAGS[@]}" "$ROOT/tests/ab_bvh.c" "$TMP/b_bvh.o" $S/{status,scene,camera,material,accel,bvh,render,scenes,progress}.c \
     -lm -o "$TMP/ab_bvh"
 echo "B = ${B}"
 "$TMP/ab_bvh" "$@"

@@ -20,6 +20,8 @@
 #if defined(__SSE2__) && !defined(RT_NO_SIMD)
 #include <emmintrin.h>
 #define RT_BVH_SSE 1
+#else
+#define RT_BVH_SSE 0
 #endif
 
 #ifndef LEAF_MAX
@@ -457,7 +459,7 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
     const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
     const float tmin_f = (float)tmin * 0.999f;
     float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
-#ifdef RT_BVH_SSE
+#if RT_BVH_SSE
     const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
     const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
     const __m128 vtmin = _mm_set1_ps(tmin_f);
@@ -474,7 +476,7 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
             const float(*rows)[4] = (const float(*)[4])n->bmin; /* bmin then bmax: 6 rows */
             float tn[4];
             int mask;
-#ifdef RT_BVH_SSE
+#if RT_BVH_SSE
             if (simd) {
                 __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx]), ox), ix);
                 __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny]), oy), iy);
@@ -564,11 +566,7 @@ done:
 
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-#ifdef RT_BVH_SSE
-    return closest(b, ray, tmin, tmax, hit, 1);
-#else
-    return closest(b, ray, tmin, tmax, hit, 0);
-#endif
+    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE);
 }
 
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)

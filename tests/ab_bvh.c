@@ -9,11 +9,11 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "accel.h"
 #include "bench_rays.h"
 #include "bvh.h"
+#include "progress.h"
 #include "render.h"
 #include "scene.h"
 
@@ -22,24 +22,17 @@ int ab_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
 
 typedef int (*closest_fn)(const rt_bvh *, const rt_ray *, double, double, rt_hit *);
 
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static volatile double sink;
 
 static double round_ns(closest_fn f, const rt_bvh *b, const rt_ray *rays, size_t n)
 {
-    double sum = 0, t0 = now();
+    double sum = 0, t0 = rt_now();
     for (size_t i = 0; i < n; i++) {
         rt_hit h;
         if (f(b, &rays[i], 0.001, INFINITY, &h))
             sum += h.t;
     }
-    double ns = (now() - t0) * 1e9 / (double)n;
+    double ns = (rt_now() - t0) * 1e9 / (double)n;
     sink = sum;
     return ns;
 }

@@ -4,22 +4,16 @@
  * thread. This isolates the acceleration structure from the shading,
  * sampling and RNG that every intersector shares in a full render.
  * scripts/bench.sh runs it; usage: bench_accel [WIDTH [SAMPLES [BRUTE_EVERY]]] */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 
 #include "accel.h"
 #include "bench_rays.h"
+#include "progress.h"
 #include "render.h"
 #include "scene.h"
 #include "status.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 static volatile double sink;
 
@@ -31,17 +25,50 @@ static double time_kind(const rt_accel *a, const rt_ray *rays, size_t n, size_t 
     for (int k = 0; k < 3; k++) {
         double sum = 0;
         size_t count = 0;
-        double t0 = now();
+        double t0 = rt_now();
         for (size_t i = 0; i < n; i += every, count++) {
             rt_hit h;
             if (rt_accel_closest(a, &rays[i], 0.001, INFINITY, &h))
                 sum += h.t;
         }
-        double ns = (now() - t0) * 1e9 / (double)count;
+        double ns = (rt_now() - t0) * 1e9 / (double)count;
         best = ns < best ? ns : best;
         sink = sum;
     }
     return best;
+}
+
+/* Our BVH timed class by class, each class's rays on their own: rays that
+ * hit nothing (the sky), that end on the largest sphere (the final scene's
+ * ground), and that end on another sphere. Shows whether some kind of ray
+ * is an outlier worth a special path. */
+static void time_classes(const rt_accel *bvh, const rt_scene *s, const rt_ray *rays, size_t n)
+{
+    static const char *names[3] = {"hit nothing (sky)", "end on the largest sphere", "end on another sphere"};
+    uint32_t largest = 0;
+    for (uint32_t i = 1; i < s->n_spheres; i++)
+        if (fabs(s->spheres[i].radius) > fabs(s->spheres[largest].radius))
+            largest = i;
+    rt_ray *cls[3];
+    size_t count[3] = {0, 0, 0};
+    for (int c = 0; c < 3; c++)
+        cls[c] = malloc((n ? n : 1) * sizeof *rays);
+    if (!cls[0] || !cls[1] || !cls[2]) {
+        fprintf(stderr, "bench_accel: out of memory for the ray classes\n");
+        exit(1);
+    }
+    for (size_t i = 0; i < n; i++) {
+        rt_hit h;
+        int c = !rt_accel_closest(bvh, &rays[i], 0.001, INFINITY, &h) ? 0 : h.prim == largest ? 1 : 2;
+        cls[c][count[c]++] = rays[i];
+    }
+    printf("bvh by ray class (each class timed on its own):\n");
+    for (int c = 0; c < 3; c++) {
+        if (count[c])
+            printf("  %-26s %5.1f %% of rays  %6.1f ns/ray\n", names[c], 100.0 * (double)count[c] / (double)n,
+                   time_kind(bvh, cls[c], count[c], 1));
+        free(cls[c]);
+    }
 }
 
 /* Rays among rays[0], rays[every], ... on which two exact intersectors
@@ -100,6 +127,7 @@ int main(int argc, char **argv)
         printf("  bvh / embree speed:  %.2f\n", te / tb);
     }
     printf("  bvh / brute speed:   %.2f\n", tf / tb);
+    time_classes(bvh, &s, rays, n);
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
     if (bad)
         fprintf(stderr, "bench_accel: bvh and brute force disagree on %zu of the %zu rays compared\n", bad, checked);

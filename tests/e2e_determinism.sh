@@ -20,8 +20,11 @@ check_eq "PNG records the sampling version of --version" "$(sed -n 's/^rt-mpi:sa
 read -r -a cmd <<<"$(sed -n 's/^rt-mpi:command=rt-mpi //p' "$WORK/ref.text")"
 check_eq "PNG records the options" "${cmd[*]}" \
     "--scene final --grid 11 --width 96 --height 64 --samples 4 --max-depth 50 --seed 42 --diffuse lambertian --accel bvh"
-"$BIN" "${cmd[@]}" -q -o "$WORK/again.png" >/dev/null
-cmp -s "$WORK/ref.png" "$WORK/again.png" && pass "the PNG's own command renders it again" || fail "the PNG's command gives another image"
+if [ ${#cmd[@]} -gt 0 ]; then # (no command: the full default job would run)
+    "$BIN" "${cmd[@]}" -q -o "$WORK/again.png" >/dev/null
+    cmp -s "$WORK/ref.png" "$WORK/again.png" && pass "the PNG's own command renders it again" ||
+        fail "the PNG's command gives another image"
+fi
 
 same_as_ref() { # label file
     if cmp -s "$WORK/ref.png" "$2"; then pass "$1: identical bytes"; else fail "$1: differs from reference"; fi

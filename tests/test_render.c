@@ -59,7 +59,8 @@ int main(void)
 
     /* The rays a sample traces (bench_accel's input): as many as the
      * segments it counts, each from where the previous one hit. */
-    rt_ray path[20];
+    rt_ray *path = malloc(p.max_depth * sizeof *path);
+    CHECK(path != NULL);
     long total_rays = 0, total_segs = 0, chained = 1;
     for (uint32_t k = 0; k < 200; k++) {
         uint64_t segs = 0;
@@ -76,6 +77,7 @@ int main(void)
     CHECK_EQ_INT(total_rays, total_segs);
     CHECK(total_rays > 200);
     CHECK(chained);
+    free(path);
 
     /* Tone mapping: the book's gamma 2 and 0.999 clamp. */
     int64_t px[6] = {0, (int64_t)(0.25 * RT_FIX_ONE) * 4, (int64_t)(4.0 * RT_FIX_ONE) * 4, 0, 0, 0};
