@@ -1,7 +1,8 @@
 #!/bin/bash
 # setup.sh [BUILD_DIR] [cmake options...]
 # Installs the Debian 12 packages rt-mpi needs (only those missing), then
-# configures and builds with CMake. Safe to run again; prints the binary path.
+# configures and builds with CMake (only target $RT_BUILD_TARGET if set).
+# Safe to run again; prints the binary path.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${1:-$ROOT/build}
@@ -17,5 +18,6 @@ PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 "$ROOT/scripts/install_packages.sh" "${PACKAGES[@]}"
 
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release "$@" >&2
-cmake --build "$BUILD" -j "$(nproc)" >&2
+# RT_BUILD_TARGET: build only that target (and what it needs).
+cmake --build "$BUILD" -j "$(nproc)" ${RT_BUILD_TARGET:+--target "$RT_BUILD_TARGET"} >&2
 echo "$BUILD/rt-mpi"

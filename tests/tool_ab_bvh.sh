@@ -5,6 +5,7 @@
 # disagreement and fails. (Its timings are printed, never checked.)
 ROOT=$1
 source "$(dirname "$0")/lib.sh"
+export AB_BUILD_DIR="$WORK/build-ab"
 AB=(bash "$ROOT/scripts/ab_bvh.sh")
 "${AB[@]}" "$ROOT/src/bvh.c" 40 1 1 >"$WORK/same.out" 2>&1
 check_eq "same bvh.c: exit status" $? 0

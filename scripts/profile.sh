@@ -1,0 +1,51 @@
+#!/bin/bash
+# profile.sh [rt-mpi options...]
+# Instruction counts of the render, from valgrind's callgrind: repeatable for
+# the same binary and inputs, whatever else the machine is doing. Builds the
+# program in $PROFILE_BUILD_DIR (default build-profile/): release flags,
+# baseline x86-64 (no -march: valgrind 3.19 cannot decode AVX-512), -g, and
+# no LTO, so the intersector stays a function of its own (rt_accel_closest,
+# one call per ray segment). Renders the final scene at 150x100, 8 spp,
+# 1 thread unless the options say otherwise (later options win), e.g.
+#   scripts/profile.sh --accel brute --width 60 --height 40 -s 2
+# and prints instructions per ray segment: in the intersector (per query)
+# and in everything else of the render (camera, shading, sampling, RNG).
+# The full profile stays in $PROFILE_BUILD_DIR/callgrind.out for
+# callgrind_annotate.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+BUILD=${PROFILE_BUILD_DIR:-$ROOT/build-profile}
+mkdir -p "$BUILD"
+RT_EXTRA_PACKAGES="valgrind python3" RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF \
+    -DRT_MPI=OFF -DBUILD_TESTING=OFF -DCMAKE_C_FLAGS=-g >/dev/null 2>"$BUILD/setup.log" ||
+    { cat "$BUILD/setup.log" >&2; exit 2; }
+OUT=$BUILD/callgrind.out
+rm -f "$BUILD/profile.png" "$BUILD/profile.json"
+valgrind --tool=callgrind --callgrind-out-file="$OUT" "$BUILD/rt-mpi" --width 150 --height 100 -s 8 -j 1 \
+    --no-checkpoint --quiet "$@" -o "$BUILD/profile.png" --stats "$BUILD/profile.json" >"$BUILD/valgrind.log" 2>&1 ||
+    { tail -5 "$BUILD/valgrind.log" >&2; echo "profile.sh: the render failed under callgrind" >&2; exit 1; }
+callgrind_annotate --inclusive=yes --tree=caller "$OUT" >"$BUILD/callgrind.txt" 2>/dev/null
+python3 - "$BUILD/callgrind.txt" "$BUILD/profile.json" "$*" <<'PY'
+import json, re, sys
+text, stats, opts = open(sys.argv[1]).read(), json.load(open(sys.argv[2])), sys.argv[3]
+num = lambda s: int(s.replace(",", ""))
+def inclusive(fn):
+    m = re.search(r"^\s*([\d,]+) \([^)]*\)\s+\*\s+\S*:%s(?: \[.*)?$" % re.escape(fn), text, re.M)
+    if not m:
+        sys.exit("profile.sh: %s not found in the profile" % fn)
+    return num(m.group(1))
+def calls(fn):
+    # the caller lines just above the function's own '*' line
+    block = re.search(r"((?:^\s*[\d,]+ \([^)]*\)\s+<.*\n)+)^\s*[\d,]+ \([^)]*\)\s+\*\s+\S*:%s(?: \[.*)?$" % re.escape(fn), text, re.M)
+    return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", block.group(1))) if block else 0
+segs = stats["ray_segments"]
+render, query, n = inclusive("rt_render_rows"), inclusive("rt_accel_closest"), calls("rt_accel_closest")
+if n != segs:
+    sys.exit("profile.sh: %d calls of rt_accel_closest but %d ray segments: the counts below would be wrong" % (n, segs))
+print("profile.sh: callgrind, final scene, rt-mpi --width 150 --height 100 -s 8 -j 1 %s" % opts)
+print("  ray segments                          %12d" % segs)
+print("  instructions in the render            %12d" % render)
+print("  per segment                           %12.1f" % (render / segs))
+print("  in the intersector, per query         %12.1f" % (query / segs))
+print("  everything else, per segment          %12.1f" % ((render - query) / segs))
+PY
