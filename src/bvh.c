@@ -410,11 +410,13 @@ void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth)
 /* ---- traversal --------------------------------------------------------- */
 
 static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, double a, double tmin,
-                           double *closest, uint32_t *best)
+                           double *closest, uint32_t *best, rt_bvh_counts *counts)
 {
     uint32_t v = ~(uint32_t)code;
     uint32_t start = v >> 4, count = (v & 15u) + 1;
     int any = 0;
+    if (counts)
+        counts->spheres += count;
     for (uint32_t i = start; i < start + count; i++) {
         const prim *p = &b->prims[i];
         double t;
@@ -442,7 +444,8 @@ static inline float safe_inv(double d)
  * (chosen once per ray by the direction's signs), so no min/max swap is
  * needed per box. */
 static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const rt_ray *ray, double tmin,
-                                                          double tmax, rt_hit *hit, const int simd)
+                                                          double tmax, rt_hit *hit, const int simd,
+                                                          rt_bvh_counts *counts)
 {
     if (!b->n_nodes)
         return 0;
@@ -469,10 +472,12 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
     int32_t code = 0;
     for (;;) {
         if (code < 0) {
-            if (leaf_hit(b, code, ray, a, tmin, &closest, &best))
+            if (leaf_hit(b, code, ray, a, tmin, &closest, &best, counts))
                 tfar_f = (float)closest * 1.0001f;
         } else {
             const node4 *n = &b->nodes[code];
+            if (counts)
+                counts->nodes++;
             const float(*rows)[4] = (const float(*)[4])n->bmin; /* bmin then bmax: 6 rows */
             float tn[4];
             int mask;
@@ -566,10 +571,16 @@ done:
 
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE);
+    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
 }
 
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    return closest(b, ray, tmin, tmax, hit, 0);
+    return closest(b, ray, tmin, tmax, hit, 0, NULL);
+}
+
+int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
+                           rt_bvh_counts *counts)
+{
+    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE, counts);
 }

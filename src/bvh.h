@@ -5,6 +5,7 @@
 #define RT_BVH_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "accel.h"
 #include "scene.h"
@@ -18,6 +19,14 @@ int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
  * without SSE2 (non-x86 nodes, RT_NO_SIMD) run. It finds the same hits;
  * --accel bvh-scalar renders with it, so any node can check that. */
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+/* The traversal of rt_bvh_closest, counting as it goes: nodes visited
+ * (box tests of four children) and spheres tested, added to *counts. For
+ * benchmarks and tests; the two functions above count nothing. */
+typedef struct rt_bvh_counts {
+    uint64_t nodes, spheres;
+} rt_bvh_counts;
+int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
+                           rt_bvh_counts *counts);
 size_t rt_bvh_bytes(const rt_bvh *b);
 /* Structure statistics for tests and the summary. */
 void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth);

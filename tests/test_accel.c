@@ -36,7 +36,11 @@ static void check_same(const char *name, int ha, rt_hit a, int hb, rt_hit b, con
     mismatches++;
 }
 
-static void compare(const rt_accel *const bvh[2], const rt_accel *brute, const rt_ray *ray, double tmin)
+/* Totals of rt_bvh_closest_counted over the random rays. */
+static rt_bvh_counts counted;
+
+static void compare(const rt_accel *const bvh[2], const rt_bvh *raw, const rt_accel *brute, const rt_ray *ray,
+                    double tmin)
 {
     rt_hit b = {0, 0};
     int hb = rt_accel_closest(brute, ray, tmin, INFINITY, &b);
@@ -47,6 +51,47 @@ static void compare(const rt_accel *const bvh[2], const rt_accel *brute, const r
         int ha = rt_accel_closest(bvh[k], ray, tmin, INFINITY, &a);
         check_same(k ? "bvh-scalar" : "bvh", ha, a, hb, b, ray);
     }
+    rt_hit c = {0, 0};
+    int hc = rt_bvh_closest_counted(raw, ray, tmin, INFINITY, &c, &counted);
+    check_same("bvh-counted", hc, c, hb, b, ray);
+}
+
+/* The counts on a scene whose tree is known: spheres at x = 0, 100 and 200
+ * (radius 1) give a root with two leaves, {0} and {100, 200}. */
+static void check_counts(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+    for (int i = 0; i < 3; i++)
+        CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(100.0 * i, 0, 0), 1.0, 0), RT_OK);
+    rt_bvh *b;
+    CHECK_EQ_INT(rt_bvh_build(&b, &s), RT_OK);
+    int nodes, leaves, depth;
+    rt_bvh_stats(b, &nodes, &leaves, &depth);
+    CHECK_EQ_INT(nodes, 1);
+    CHECK_EQ_INT(leaves, 2);
+    static const struct {
+        rt_ray ray;
+        int hit;
+        uint64_t nodes, spheres;
+    } cases[] = {
+        {{{0, 50, -10}, {0, 0, 1}}, 0, 1, 0},   /* misses every box: the root only */
+        {{{0, 0, -10}, {0, 0, 1}}, 1, 1, 1},    /* enters the box of {0} only */
+        {{{100, 0, -10}, {0, 0, 1}}, 1, 1, 2},  /* enters {100, 200}: both tested */
+        {{{-10, 0, 0}, {1, 0, 0}}, 1, 1, 1},    /* hits 0 first: {100, 200} pruned */
+        {{{300, 0, 0}, {-1, 0, 0}}, 1, 1, 2},   /* hits 200 first, in the leaf of 100 */
+        {{{-10, 0.9, 0.9}, {1, 0, 0}}, 0, 1, 3}}; /* through every box, missing every sphere */
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        rt_bvh_counts c = {0, 0};
+        rt_hit h;
+        CHECK_EQ_INT(rt_bvh_closest_counted(b, &cases[i].ray, 0.001, INFINITY, &h, &c), cases[i].hit);
+        CHECK_EQ_U64(c.nodes, cases[i].nodes);
+        CHECK_EQ_U64(c.spheres, cases[i].spheres);
+    }
+    rt_bvh_free(b);
+    rt_scene_free(&s);
 }
 
 int main(void)
@@ -76,6 +121,8 @@ int main(void)
         CHECK_EQ_INT(rt_accel_new(&bvh, &s, RT_ACCEL_BVH), RT_OK);
         CHECK_EQ_INT(rt_accel_new(&scalar, &s, RT_ACCEL_BVH_SCALAR), RT_OK);
         CHECK_EQ_INT(rt_accel_new(&brute, &s, RT_ACCEL_BRUTE), RT_OK);
+        rt_bvh *raw;
+        CHECK_EQ_INT(rt_bvh_build(&raw, &s), RT_OK);
         double ext = 0;
         for (uint32_t i = 0; i < s.n_spheres; i++)
             ext = fmax(ext, fabs(s.spheres[i].center.x) + fabs(s.spheres[i].radius));
@@ -112,7 +159,7 @@ int main(void)
             }
             }
             const rt_accel *const both[2] = {bvh, scalar};
-            compare(both, brute, &ray, k % 8 < 4 ? 0.001 : 1e-9);
+            compare(both, raw, brute, &ray, k % 8 < 4 ? 0.001 : 1e-9);
         }
         if (scene_i == 0) {
             int nodes, leaves, depth;
@@ -127,6 +174,7 @@ int main(void)
         rt_accel_free(bvh);
         rt_accel_free(scalar);
         rt_accel_free(brute);
+        rt_bvh_free(raw);
         rt_scene_free(&s);
     }
     /* Empty scene: nothing is hit. */
@@ -138,7 +186,10 @@ int main(void)
     rt_hit h;
     CHECK_EQ_INT(rt_accel_closest(eb, &ray, 0.001, INFINITY, &h), 0);
     rt_accel_free(eb);
-    printf("%ld rays, %ld hits, %ld mismatches\n", rays, hits, mismatches);
+    check_counts();
+    printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests\n", rays,
+           hits, mismatches, counted.nodes, counted.spheres);
+    CHECK(counted.nodes >= (uint64_t)rays); /* every scene has a root */
     CHECK_EQ_INT(mismatches, 0);
     CHECK(hits > rays / 4);
     CHECK_DONE();
