@@ -20,7 +20,11 @@ else
     git -C "$ROOT" show "$B:src/bvh.c" >"$BUILD/b_bvh.c.new" || { echo "ab_bvh.sh: no src/bvh.c at '$B'" >&2; exit 2; }
 fi
 # Replace B only when it changed, so make does not recompile it for nothing.
-cmp -s "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c" 2>/dev/null && rm "$BUILD/b_bvh.c.new" || mv "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"
+if cmp -s "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"; then
+    rm "$BUILD/b_bvh.c.new"
+else
+    mv "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"
+fi
 RT_BUILD_TARGET=ab_bvh "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF -DRT_MPI=OFF -DBUILD_TESTING=OFF \
     -DRT_AB_BVH_B="$BUILD/b_bvh.c" >/dev/null 2>"$BUILD/build.log" || { cat "$BUILD/build.log" >&2; exit 2; }
 echo "B = ${B}"

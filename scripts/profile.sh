@@ -20,29 +20,34 @@ RT_EXTRA_PACKAGES="valgrind python3" RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup
     -DRT_MPI=OFF -DBUILD_TESTING=OFF -DCMAKE_C_FLAGS=-g >/dev/null 2>"$BUILD/setup.log" ||
     { cat "$BUILD/setup.log" >&2; exit 2; }
 OUT=$BUILD/callgrind.out
+OPTS=(--width 150 --height 100 -s 8 -j 1 "$@")
 rm -f "$BUILD/profile.png" "$BUILD/profile.json"
-valgrind --tool=callgrind --callgrind-out-file="$OUT" "$BUILD/rt-mpi" --width 150 --height 100 -s 8 -j 1 \
-    --no-checkpoint --quiet "$@" -o "$BUILD/profile.png" --stats "$BUILD/profile.json" >"$BUILD/valgrind.log" 2>&1 ||
+valgrind --tool=callgrind --callgrind-out-file="$OUT" "$BUILD/rt-mpi" "${OPTS[@]}" --no-checkpoint --quiet \
+    -o "$BUILD/profile.png" --stats "$BUILD/profile.json" >"$BUILD/valgrind.log" 2>&1 ||
     { tail -5 "$BUILD/valgrind.log" >&2; echo "profile.sh: the render failed under callgrind" >&2; exit 1; }
 callgrind_annotate --inclusive=yes --tree=caller "$OUT" >"$BUILD/callgrind.txt" 2>/dev/null
-python3 - "$BUILD/callgrind.txt" "$BUILD/profile.json" "$*" <<'PY'
+python3 - "$BUILD/callgrind.txt" "$BUILD/profile.json" "${OPTS[*]}" <<'PY'
 import json, re, sys
 text, stats, opts = open(sys.argv[1]).read(), json.load(open(sys.argv[2])), sys.argv[3]
 num = lambda s: int(s.replace(",", ""))
+# callgrind_annotate --tree=caller: a function's line is "COUNT (PCT)  *  FILE:NAME",
+# preceded by one "COUNT (PCT)  <  FILE:CALLER (CALLSx)" line per caller.
+LINE = r"^\s*[\d,]+ \([^)]*\)\s+"
+def own_line(fn):
+    return LINE + r"\*\s+\S*:%s(?: \[.*)?$" % re.escape(fn)
 def inclusive(fn):
-    m = re.search(r"^\s*([\d,]+) \([^)]*\)\s+\*\s+\S*:%s(?: \[.*)?$" % re.escape(fn), text, re.M)
+    m = re.search(own_line(fn), text, re.M)
     if not m:
         sys.exit("profile.sh: %s not found in the profile" % fn)
-    return num(m.group(1))
+    return num(m.group(0).split()[0])
 def calls(fn):
-    # the caller lines just above the function's own '*' line
-    block = re.search(r"((?:^\s*[\d,]+ \([^)]*\)\s+<.*\n)+)^\s*[\d,]+ \([^)]*\)\s+\*\s+\S*:%s(?: \[.*)?$" % re.escape(fn), text, re.M)
-    return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", block.group(1))) if block else 0
+    m = re.search(r"((?:%s<.*\n)+)%s" % (LINE, own_line(fn)), text, re.M)
+    return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", m.group(1))) if m else 0
 segs = stats["ray_segments"]
 render, query, n = inclusive("rt_render_rows"), inclusive("rt_accel_closest"), calls("rt_accel_closest")
 if n != segs:
-    sys.exit("profile.sh: %d calls of rt_accel_closest but %d ray segments: the counts below would be wrong" % (n, segs))
-print("profile.sh: callgrind, final scene, rt-mpi --width 150 --height 100 -s 8 -j 1 %s" % opts)
+    sys.exit("profile.sh: %d calls of rt_accel_closest, %d ray segments: per-query counts would be wrong" % (n, segs))
+print("profile.sh: callgrind, rt-mpi %s" % opts)
 print("  ray segments                          %12d" % segs)
 print("  instructions in the render            %12d" % render)
 print("  per segment                           %12.1f" % (render / segs))

@@ -134,3 +134,8 @@ size_t rt_accel_bytes(const rt_accel *a)
 {
     return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0);
 }
+
+const struct rt_bvh *rt_accel_bvh(const rt_accel *a)
+{
+    return a->bvh;
+}

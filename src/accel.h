@@ -38,5 +38,8 @@ const char *rt_accel_name(rt_accel_kind kind);
 int rt_accel_parse(const char *name);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
+/* Our BVH inside a (the bvh and bvh-scalar kinds), else NULL: for tests and
+ * benchmarks that query it directly (rt_bvh_closest_counted). */
+const struct rt_bvh *rt_accel_bvh(const rt_accel *a);
 
 #endif

@@ -43,19 +43,7 @@ static double time_kind(const rt_accel *a, const rt_ray *rays, size_t n, size_t 
  * hit nothing (the sky), that end on the largest sphere (the final scene's
  * ground), and that end on another sphere. Shows whether some kind of ray
  * is an outlier worth a special path. */
-/* Nodes visited and spheres tested per ray (rt_bvh_closest_counted, the
- * same traversal; untimed). */
-static rt_bvh_counts count_per_ray(const rt_bvh *raw, const rt_ray *rays, size_t n)
-{
-    rt_bvh_counts c = {0, 0};
-    for (size_t i = 0; i < n; i++) {
-        rt_hit h;
-        rt_bvh_closest_counted(raw, &rays[i], 0.001, INFINITY, &h, &c);
-    }
-    return c;
-}
-
-static void time_classes(const rt_accel *bvh, const rt_bvh *raw, const rt_scene *s, const rt_ray *rays, size_t n)
+static void time_classes(const rt_accel *bvh, const rt_scene *s, const rt_ray *rays, size_t n)
 {
     static const char *names[3] = {"hit nothing (sky)", "end on the largest sphere", "end on another sphere"};
     uint32_t largest = 0;
@@ -70,22 +58,29 @@ static void time_classes(const rt_accel *bvh, const rt_bvh *raw, const rt_scene 
         fprintf(stderr, "bench_accel: out of memory for the ray classes\n");
         exit(1);
     }
+    /* Classified by the counted traversal (untimed), which also gives each
+     * class its nodes visited and spheres tested. */
+    rt_bvh_counts k[3] = {{0, 0}, {0, 0}, {0, 0}};
     for (size_t i = 0; i < n; i++) {
         rt_hit h;
-        int c = !rt_accel_closest(bvh, &rays[i], 0.001, INFINITY, &h) ? 0 : h.prim == largest ? 1 : 2;
+        rt_bvh_counts one = {0, 0};
+        int c = 0;
+        if (rt_bvh_closest_counted(rt_accel_bvh(bvh), &rays[i], 0.001, INFINITY, &h, &one))
+            c = h.prim == largest ? 1 : 2;
         cls[c][count[c]++] = rays[i];
+        k[c].nodes += one.nodes;
+        k[c].spheres += one.spheres;
     }
-    rt_bvh_counts all = count_per_ray(raw, rays, n);
+    double per = 1.0 / (double)(n ? n : 1);
     printf("bvh by ray class (each class timed on its own; nodes visited and spheres tested per ray):\n");
     printf("  %-26s %5.1f %% of rays  %6s        %5.2f nodes  %5.2f spheres\n", "all rays", 100.0, "",
-           (double)all.nodes / (double)(n ? n : 1), (double)all.spheres / (double)(n ? n : 1));
+           (double)(k[0].nodes + k[1].nodes + k[2].nodes) * per,
+           (double)(k[0].spheres + k[1].spheres + k[2].spheres) * per);
     for (int c = 0; c < 3; c++) {
-        if (count[c]) {
-            rt_bvh_counts k = count_per_ray(raw, cls[c], count[c]);
+        if (count[c])
             printf("  %-26s %5.1f %% of rays  %6.1f ns/ray  %5.2f nodes  %5.2f spheres\n", names[c],
-                   100.0 * (double)count[c] / (double)n, time_kind(bvh, cls[c], count[c], 1),
-                   (double)k.nodes / (double)count[c], (double)k.spheres / (double)count[c]);
-        }
+                   100.0 * (double)count[c] * per, time_kind(bvh, cls[c], count[c], 1),
+                   (double)k[c].nodes / (double)count[c], (double)k[c].spheres / (double)count[c]);
         free(cls[c]);
     }
 }
@@ -146,13 +141,7 @@ int main(int argc, char **argv)
         printf("  bvh / embree speed:  %.2f\n", te / tb);
     }
     printf("  bvh / brute speed:   %.2f\n", tf / tb);
-    rt_bvh *raw = NULL;
-    if (rt_bvh_build(&raw, &s)) {
-        fprintf(stderr, "bench_accel: cannot build the BVH\n");
-        return 1;
-    }
-    time_classes(bvh, raw, &s, rays, n);
-    rt_bvh_free(raw);
+    time_classes(bvh, &s, rays, n);
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
     if (bad)
         fprintf(stderr, "bench_accel: bvh and brute force disagree on %zu of the %zu rays compared\n", bad, checked);
