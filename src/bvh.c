@@ -5,7 +5,12 @@
  * The float boxes only decide which spheres get tested; hits are computed by
  * rt_sphere_intersect in double, the same code brute force runs. Boxes are
  * widened by a margin larger than the float rounding of box and ray, so the
- * closest hit equals brute force's (tests/test_accel.c checks this). */
+ * closest hit equals brute force's (tests/test_accel.c checks this).
+ *
+ * A sphere whose box is larger than the box of all the others together (the
+ * book's ground, radius 1000) stays out of the tree: nearly every ray would
+ * enter its box anyway, so it is tested first, before the traversal, and a
+ * ray that hits it starts the traversal with that hit as its bound. */
 #include "bvh.h"
 
 #include <float.h>
@@ -34,6 +39,7 @@
 #define BINS 16
 #endif
 #define STACK_MAX 256
+#define OUTSIDE_MAX 4 /* spheres tested before the traversal, at most */
 
 typedef struct node4 {
     float bmin[3][4];
@@ -53,9 +59,11 @@ typedef struct prim {
 struct rt_bvh {
     node4 *nodes;
     int n_nodes, cap_nodes;
-    prim *prims;
+    prim *prims; /* the tree's spheres, in leaf order */
     uint32_t n_prims;
     int depth, leaves;
+    prim outside[OUTSIDE_MAX]; /* spheres left out of the tree */
+    int n_outside;
 };
 
 /* ---- build ------------------------------------------------------------- */
@@ -101,6 +109,37 @@ static double box_area(const box *b)
     if (d0 < 0 || d1 < 0 || d2 < 0)
         return 0.0;
     return 2.0 * (d0 * d1 + d1 * d2 + d2 * d0);
+}
+
+/* Takes out of the tree, into o->outside, the spheres whose box has at least
+ * the area of the box around all the remaining ones, largest first, as long
+ * as one sphere is left for the tree. order[0, n) lists the spheres; the ones
+ * kept are moved to its front. Returns how many are kept. */
+static uint32_t take_outside(rt_bvh *o, const rt_scene *s, const box *pbox, uint32_t *order, uint32_t n)
+{
+    while (o->n_outside < OUTSIDE_MAX && n > 1) {
+        uint32_t big = 0;
+        for (uint32_t i = 1; i < n; i++)
+            if (box_area(&pbox[order[i]]) > box_area(&pbox[order[big]]))
+                big = i;
+        box rest;
+        box_empty(&rest);
+        for (uint32_t i = 0; i < n; i++)
+            if (i != big)
+                box_grow(&rest, &pbox[order[i]]);
+        if (box_area(&pbox[order[big]]) < box_area(&rest))
+            break;
+        const rt_sphere *sp = &s->spheres[order[big]];
+        prim *p = &o->outside[o->n_outside++];
+        p->c[0] = sp->center.x;
+        p->c[1] = sp->center.y;
+        p->c[2] = sp->center.z;
+        p->r2 = sp->radius * sp->radius;
+        p->index = order[big];
+        p->pad = 0;
+        order[big] = order[--n];
+    }
+    return n;
 }
 
 static int new_bnode(builder *B)
@@ -349,6 +388,8 @@ int rt_bvh_build(rt_bvh **out, const rt_scene *s)
         }
         B.order[i] = i;
     }
+    if (!st)
+        n = take_outside(o, s, B.pbox, B.order, n);
     if (!st && n > 0) {
         int root = build_rec(&B, 0, n, 0);
         st = root < 0 ? (B.err ? B.err : RT_ENOMEM) : B.err;
@@ -400,6 +441,8 @@ size_t rt_bvh_bytes(const rt_bvh *b)
     return sizeof *b + (size_t)b->cap_nodes * sizeof(node4) + (size_t)b->n_prims * sizeof(prim);
 }
 
+int rt_bvh_outside(const rt_bvh *b) { return b->n_outside; }
+
 void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth)
 {
     *nodes = b->n_nodes;
@@ -447,21 +490,17 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
                                                           double tmax, rt_hit *hit, const int simd,
                                                           rt_bvh_counts *counts)
 {
-    if (!b->n_nodes)
+    if (!b->n_nodes) /* an empty scene: the tree keeps one sphere at least */
         return 0;
     const double a = rt_v3_len2(ray->dir);
     double closest = tmax;
     uint32_t best = UINT32_MAX;
-    int32_t stack_node[STACK_MAX];
-    float stack_t[STACK_MAX];
-    int sp = 0;
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
     const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
     /* Row of the near plane per axis in node4.bmin/bmax, seen as float[6][4]. */
     const int nx = fi[0] < 0 ? 3 : 0, ny = fi[1] < 0 ? 4 : 1, nz = fi[2] < 0 ? 5 : 2;
     const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
     const float tmin_f = (float)tmin * 0.999f;
-    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
 #if RT_BVH_SSE
     const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
     const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
@@ -469,6 +508,23 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
 #else
     (void)simd;
 #endif
+    /* The spheres outside the tree first: a hit on one bounds the traversal.
+     * (Placed after the ray setup above, this measured about 7 % faster than
+     * before it: scripts/ab_bvh.sh.) */
+    for (int i = 0; i < b->n_outside; i++) {
+        const prim *p = &b->outside[i];
+        double t;
+        if (rt_sphere_intersect(rt_v3(p->c[0], p->c[1], p->c[2]), p->r2, ray, a, tmin, closest, &t)) {
+            closest = t;
+            best = p->index;
+        }
+    }
+    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
+    if (counts)
+        counts->spheres += (uint64_t)b->n_outside;
+    int32_t stack_node[STACK_MAX];
+    float stack_t[STACK_MAX];
+    int sp = 0;
     int32_t code = 0;
     for (;;) {
         if (code < 0) {

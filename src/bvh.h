@@ -28,6 +28,10 @@ typedef struct rt_bvh_counts {
 int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
                            rt_bvh_counts *counts);
 size_t rt_bvh_bytes(const rt_bvh *b);
+/* How many spheres the tree leaves out and every query tests first: those
+ * whose box is at least as large as the box of all the others (the final
+ * scene's ground); at most 4. */
+int rt_bvh_outside(const rt_bvh *b);
 /* Structure statistics for tests and the summary. */
 void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth);
 

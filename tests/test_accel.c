@@ -2,7 +2,8 @@
  * scalar one (what non-x86 builds run), must return the same closest hit as
  * brute force (the correctness oracle) for many random rays in random
  * scenes: rays from outside, from inside spheres, from surface points (as
- * bounces start), and grazing rays tangent to a sphere. */
+ * bounces start), and grazing rays tangent to a sphere. Scenes with very
+ * large spheres also check the spheres the tree leaves out (rt_bvh_outside). */
 #include <stdlib.h>
 
 #include "accel.h"
@@ -22,6 +23,7 @@ static rt_vec3 rnd_dir(rt_rng *r)
 }
 
 static long mismatches, rays, hits;
+static int scenes_outside; /* random scenes in which the tree leaves spheres out */
 
 /* One intersector's answer against brute force's: same t to the bit; a
  * different sphere only in an exact tie. */
@@ -71,6 +73,7 @@ static void check_counts(void)
     rt_bvh_stats(b, &nodes, &leaves, &depth);
     CHECK_EQ_INT(nodes, 1);
     CHECK_EQ_INT(leaves, 2);
+    CHECK_EQ_INT(rt_bvh_outside(b), 0); /* no box outgrows the others */
     static const struct {
         rt_ray ray;
         int hit;
@@ -88,6 +91,50 @@ static void check_counts(void)
         CHECK_EQ_INT(rt_bvh_closest_counted(b, &cases[i].ray, 0.001, INFINITY, &h, &c), cases[i].hit);
         CHECK_EQ_U64(c.nodes, cases[i].nodes);
         CHECK_EQ_U64(c.spheres, cases[i].spheres);
+    }
+    rt_bvh_free(b);
+    rt_scene_free(&s);
+}
+
+/* The spheres the tree leaves out: a ground of radius 1000, then a sphere of
+ * radius 200 whose box outgrows the small spheres', are tested before the
+ * traversal; the small spheres stay in the tree. */
+static void check_outside(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 0), 1.0, 0), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, -1000, 0), 1000, 0), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(3, 0, 0), 1.0, 0), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 500), 200, 0), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(6, 0, 0), 1.0, 0), RT_OK);
+    rt_bvh *b;
+    CHECK_EQ_INT(rt_bvh_build(&b, &s), RT_OK);
+    CHECK_EQ_INT(rt_bvh_outside(b), 2);
+    int nodes, leaves, depth;
+    rt_bvh_stats(b, &nodes, &leaves, &depth);
+    CHECK_EQ_INT(nodes, 1); /* three small spheres: one node */
+    const struct {
+        rt_ray ray;
+        uint32_t prim; /* UINT32_MAX: a miss */
+        double t;
+    } cases[] = {
+        {{{50, 10, 0}, {0, -1, 0}}, 1, 1010 - sqrt(1000.0 * 1000 - 50 * 50)}, /* down onto the ground */
+        {{{0, 10, 0}, {0, -1, 0}}, 0, 9},           /* onto the small sphere above it */
+        {{{0, 0, 100}, {0, 0, 1}}, 3, 200},         /* into the radius-200 sphere */
+        {{{3, 10, 0}, {0, 1, 0}}, UINT32_MAX, 0}}; /* up into the sky */
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        rt_bvh_counts c = {0, 0};
+        rt_hit h = {0, 0};
+        int hit = rt_bvh_closest_counted(b, &cases[i].ray, 0.001, INFINITY, &h, &c);
+        CHECK_EQ_INT(hit, cases[i].prim != UINT32_MAX);
+        if (hit) {
+            CHECK_EQ_U64(h.prim, cases[i].prim);
+            CHECK_NEAR(h.t, cases[i].t, 1e-12);
+        }
+        CHECK(c.spheres >= 2); /* both outside spheres, on every ray */
     }
     rt_bvh_free(b);
     rt_scene_free(&s);
@@ -121,6 +168,11 @@ int main(void)
         CHECK_EQ_INT(rt_accel_new(&scalar, &s, RT_ACCEL_BVH_SCALAR), RT_OK);
         CHECK_EQ_INT(rt_accel_new(&brute, &s, RT_ACCEL_BRUTE), RT_OK);
         CHECK(rt_accel_bvh(bvh) != NULL && rt_accel_bvh(brute) == NULL);
+        int outside = rt_bvh_outside(rt_accel_bvh(bvh));
+        if (scene_i % 3 == 0)
+            CHECK_EQ_INT(outside, 1); /* the ground */
+        else
+            scenes_outside += outside > 0;
         double ext = 0;
         for (uint32_t i = 0; i < s.n_spheres; i++)
             ext = fmax(ext, fabs(s.spheres[i].center.x) + fabs(s.spheres[i].radius));
@@ -184,8 +236,11 @@ int main(void)
     CHECK_EQ_INT(rt_accel_closest(eb, &ray, 0.001, INFINITY, &h), 0);
     rt_accel_free(eb);
     check_counts();
-    printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests\n", rays,
-           hits, mismatches, counted.nodes, counted.spheres);
+    check_outside();
+    printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests; "
+           "random scenes with spheres outside the tree: %d\n",
+           rays, hits, mismatches, counted.nodes, counted.spheres, scenes_outside);
+    CHECK(scenes_outside > 0);
     CHECK(counted.nodes >= (uint64_t)rays); /* every scene has a root */
     CHECK_EQ_INT(mismatches, 0);
     CHECK(hits > rays / 4);
