@@ -13,6 +13,7 @@
 # Builds are kept in $AB_RENDER_DIR (default build-ab-render/).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$ROOT/scripts/bench_lib.sh"
 DIR=${AB_RENDER_DIR:-$ROOT/build-ab-render}
 REV=HEAD
 ROUNDS=5
@@ -45,7 +46,7 @@ OPTS=(--width 600 --height 400 -s 16 -j 1 "$@")
 run() { # run a|b: appends the rate to $DIR/rates.X, the image hash to $DIR/hash.X
     "$DIR/$1/rt-mpi" "${OPTS[@]}" --no-checkpoint -o "$DIR/$1.png" >"$DIR/$1.out" 2>&1 ||
         { cat "$DIR/$1.out" >&2; echo "ab_render.sh: the render of $1 failed" >&2; exit 1; }
-    sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$DIR/$1.out" >>"$DIR/rates.$1"
+    segment_rate "$DIR/$1.out" >>"$DIR/rates.$1"
     sed -n 's/^image hash: *//p' "$DIR/$1.out" >"$DIR/hash.$1"
 }
 rm -f "$DIR/rates.a" "$DIR/rates.b"
@@ -53,14 +54,13 @@ for ((r = 0; r < ROUNDS; r++)); do
     run a
     run b
 done
-median() { sort -g "$1" | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
-A=$(median "$DIR/rates.a")
-B=$(median "$DIR/rates.b")
+A=$(median <"$DIR/rates.a")
+B=$(median <"$DIR/rates.b")
 [ -n "$A" ] && [ -n "$B" ] || { echo "ab_render.sh: no ray segment rate in the output" >&2; exit 1; }
 echo "ab_render.sh: rt-mpi ${OPTS[*]}, $ROUNDS alternating rounds, median"
 printf '  %-22s %8.3f M segments/s   runs: %s\n' "A (working tree)" "$A" "$(paste -sd' ' "$DIR/rates.a")" \
     "B ($REV = ${COMMIT:0:7})" "$B" "$(paste -sd' ' "$DIR/rates.b")"
-printf '  %-22s %8.3f\n' "A / B speed" "$(awk -v a="$A" -v b="$B" 'BEGIN {print a / b}')"
+printf '  %-22s %8s\n' "A / B speed" "$(ratio "$A" "$B")"
 if cmp -s "$DIR/hash.a" "$DIR/hash.b"; then
     echo "  images: identical (hash $(cat "$DIR/hash.a"))"
 else

@@ -15,6 +15,7 @@
 # (counted exactly by rt-mpi), and the whole command's wall time.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$ROOT/scripts/bench_lib.sh"
 ROUNDS=3 FULL=0 W=600 H=400 S=16
 while [ $# -gt 0 ]; do
     case $1 in
@@ -55,13 +56,12 @@ run_config() { # name: one run of that configuration
     esac
 }
 
-median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
 for ((r = 1; r <= ROUNDS; r++)); do
     for name in "${NAMES[@]}"; do
         start=$(date +%s.%N)
         run_config "$name" >"$TMP/out" 2>&1 || { echo "bench.sh: '$name' failed:"; cat "$TMP/out"; exit 1; }
         end=$(date +%s.%N)
-        rate=$(sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$TMP/out")
+        rate=$(segment_rate "$TMP/out")
         echo "$rate" >>"$TMP/rate.${name// /_}"
         awk -v a="$end" -v b="$start" 'BEGIN {printf "%.3f\n", a - b}' >>"$TMP/wall.${name// /_}"
     done
@@ -74,7 +74,6 @@ for name in "${NAMES[@]}"; do
     WALL[$name]=$(median <"$TMP/wall.${name// /_}")
     printf '%-26s %14.3f %12.2f\n' "$name" "${RATE[$name]}" "${WALL[$name]}"
 done
-ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f", a / b}'; }
 echo "ratios:"
 echo "  bvh / brute force (1 thread):            $(ratio "${RATE[bvh -j 1]}" "${RATE[brute -j 1]}")"
 echo "  bvh / bvh-scalar (SSE box test gain):    $(ratio "${RATE[bvh -j 1]}" "${RATE[bvh-scalar -j 1]}")"

@@ -111,6 +111,13 @@ static double box_area(const box *b)
     return 2.0 * (d0 * d1 + d1 * d2 + d2 * d0);
 }
 
+static prim prim_of(const rt_scene *s, uint32_t index)
+{
+    const rt_sphere *sp = &s->spheres[index];
+    prim p = {{sp->center.x, sp->center.y, sp->center.z}, sp->radius * sp->radius, index, 0};
+    return p;
+}
+
 /* Takes out of the tree, into o->outside, the spheres whose box has at least
  * the area of the box around all the remaining ones, largest first, as long
  * as one sphere is left for the tree. order[0, n) lists the spheres; the ones
@@ -119,24 +126,22 @@ static uint32_t take_outside(rt_bvh *o, const rt_scene *s, const box *pbox, uint
 {
     while (o->n_outside < OUTSIDE_MAX && n > 1) {
         uint32_t big = 0;
-        for (uint32_t i = 1; i < n; i++)
-            if (box_area(&pbox[order[i]]) > box_area(&pbox[order[big]]))
+        double big_area = box_area(&pbox[order[0]]);
+        for (uint32_t i = 1; i < n; i++) {
+            double area = box_area(&pbox[order[i]]);
+            if (area > big_area) {
                 big = i;
+                big_area = area;
+            }
+        }
         box rest;
         box_empty(&rest);
         for (uint32_t i = 0; i < n; i++)
             if (i != big)
                 box_grow(&rest, &pbox[order[i]]);
-        if (box_area(&pbox[order[big]]) < box_area(&rest))
+        if (big_area < box_area(&rest))
             break;
-        const rt_sphere *sp = &s->spheres[order[big]];
-        prim *p = &o->outside[o->n_outside++];
-        p->c[0] = sp->center.x;
-        p->c[1] = sp->center.y;
-        p->c[2] = sp->center.z;
-        p->r2 = sp->radius * sp->radius;
-        p->index = order[big];
-        p->pad = 0;
+        o->outside[o->n_outside++] = prim_of(s, order[big]);
         order[big] = order[--n];
     }
     return n;
@@ -394,25 +399,15 @@ int rt_bvh_build(rt_bvh **out, const rt_scene *s)
         int root = build_rec(&B, 0, n, 0);
         st = root < 0 ? (B.err ? B.err : RT_ENOMEM) : B.err;
         if (!st) {
-            for (uint32_t i = 0; i < n; i++) {
-                const rt_sphere *sp = &s->spheres[B.order[i]];
-                prim *p = &o->prims[i];
-                p->c[0] = sp->center.x;
-                p->c[1] = sp->center.y;
-                p->c[2] = sp->center.z;
-                p->r2 = sp->radius * sp->radius;
-                p->index = B.order[i];
-                p->pad = 0;
-            }
+            for (uint32_t i = 0; i < n; i++)
+                o->prims[i] = prim_of(s, B.order[i]);
             o->n_prims = n;
-            if (!st) {
-                /* Ray origins inside the scene are rounded to float too:
-                 * widen every box by a little more than that rounding. */
-                collapser C = {o, &B, 4.0 * extent * FLT_EPSILON};
-                int r = collapse(&C, root, 1);
-                if (r < 0)
-                    st = r;
-            }
+            /* Ray origins inside the scene are rounded to float too:
+             * widen every box by a little more than that rounding. */
+            collapser C = {o, &B, 4.0 * extent * FLT_EPSILON};
+            int r = collapse(&C, root, 1);
+            if (r < 0)
+                st = r;
         }
     }
     free(B.n);
@@ -452,24 +447,31 @@ void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth)
 
 /* ---- traversal --------------------------------------------------------- */
 
-static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, double a, double tmin,
-                           double *closest, uint32_t *best, rt_bvh_counts *counts)
+/* Tests the spheres p[0, count) in turn, each against the closest hit so
+ * far; returns 1 if one of them is closer. Leaves and the spheres outside the
+ * tree both go through here. */
+static inline int test_spheres(const prim *p, uint32_t count, const rt_ray *ray, double a, double tmin,
+                               double *closest, uint32_t *best, rt_bvh_counts *counts)
 {
-    uint32_t v = ~(uint32_t)code;
-    uint32_t start = v >> 4, count = (v & 15u) + 1;
     int any = 0;
     if (counts)
         counts->spheres += count;
-    for (uint32_t i = start; i < start + count; i++) {
-        const prim *p = &b->prims[i];
+    for (uint32_t i = 0; i < count; i++) {
         double t;
-        if (rt_sphere_intersect(rt_v3(p->c[0], p->c[1], p->c[2]), p->r2, ray, a, tmin, *closest, &t)) {
+        if (rt_sphere_intersect(rt_v3(p[i].c[0], p[i].c[1], p[i].c[2]), p[i].r2, ray, a, tmin, *closest, &t)) {
             *closest = t;
-            *best = p->index;
+            *best = p[i].index;
             any = 1;
         }
     }
     return any;
+}
+
+static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, double a, double tmin,
+                           double *closest, uint32_t *best, rt_bvh_counts *counts)
+{
+    uint32_t v = ~(uint32_t)code;
+    return test_spheres(b->prims + (v >> 4), (v & 15u) + 1, ray, a, tmin, closest, best, counts);
 }
 
 static inline float safe_inv(double d)
@@ -508,20 +510,9 @@ static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const 
 #else
     (void)simd;
 #endif
-    /* The spheres outside the tree first: a hit on one bounds the traversal.
-     * (Placed after the ray setup above, this measured about 7 % faster than
-     * before it: scripts/ab_bvh.sh.) */
-    for (int i = 0; i < b->n_outside; i++) {
-        const prim *p = &b->outside[i];
-        double t;
-        if (rt_sphere_intersect(rt_v3(p->c[0], p->c[1], p->c[2]), p->r2, ray, a, tmin, closest, &t)) {
-            closest = t;
-            best = p->index;
-        }
-    }
+    /* The spheres outside the tree first: a hit on one bounds the traversal. */
+    test_spheres(b->outside, (uint32_t)b->n_outside, ray, a, tmin, &closest, &best, counts);
     float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
-    if (counts)
-        counts->spheres += (uint64_t)b->n_outside;
     int32_t stack_node[STACK_MAX];
     float stack_t[STACK_MAX];
     int sp = 0;

@@ -98,7 +98,9 @@ static void check_counts(void)
 
 /* The spheres the tree leaves out: a ground of radius 1000, then a sphere of
  * radius 200 whose box outgrows the small spheres', are tested before the
- * traversal; the small spheres stay in the tree. */
+ * traversal (two sphere tests on every ray), and a hit on one bounds it; the
+ * small spheres at x = 0, 3 and 6 stay in the tree: a root with the leaves
+ * {0} and {3, 6}. */
 static void check_outside(void)
 {
     rt_scene s;
@@ -120,11 +122,13 @@ static void check_outside(void)
         rt_ray ray;
         uint32_t prim; /* UINT32_MAX: a miss */
         double t;
+        uint64_t spheres;
     } cases[] = {
-        {{{50, 10, 0}, {0, -1, 0}}, 1, 1010 - sqrt(1000.0 * 1000 - 50 * 50)}, /* down onto the ground */
-        {{{0, 10, 0}, {0, -1, 0}}, 0, 9},           /* onto the small sphere above it */
-        {{{0, 0, 100}, {0, 0, 1}}, 3, 200},         /* into the radius-200 sphere */
-        {{{3, 10, 0}, {0, 1, 0}}, UINT32_MAX, 0}}; /* up into the sky */
+        {{{50, 10, 0}, {0, -1, 0}}, 1, 1010 - sqrt(1000.0 * 1000 - 50 * 50), 2}, /* down onto the ground */
+        {{{0, 10, 0}, {0, -1, 0}}, 0, 9, 3},          /* onto the small sphere 0: its leaf too */
+        {{{0, 0, 100}, {0, 0, 1}}, 3, 200, 2},        /* into the radius-200 sphere */
+        {{{0, 0, 1000}, {0, 0, -1}}, 3, 300, 2},      /* the radius-200 sphere first: leaf {0} pruned */
+        {{{3, 10, 0}, {0, 1, 0}}, UINT32_MAX, 0, 2}}; /* up into the sky */
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         rt_bvh_counts c = {0, 0};
         rt_hit h = {0, 0};
@@ -134,7 +138,8 @@ static void check_outside(void)
             CHECK_EQ_U64(h.prim, cases[i].prim);
             CHECK_NEAR(h.t, cases[i].t, 1e-12);
         }
-        CHECK(c.spheres >= 2); /* both outside spheres, on every ray */
+        CHECK_EQ_U64(c.nodes, 1);
+        CHECK_EQ_U64(c.spheres, cases[i].spheres);
     }
     rt_bvh_free(b);
     rt_scene_free(&s);
