@@ -66,7 +66,7 @@ int main(int argc, char **argv)
         rt_hit ha = {0, 0}, hb = {0, 0};
         int xa = rt_bvh_closest(a, &rays[i], 0.001, INFINITY, &ha);
         int xb = ab_bvh_closest(b, &rays[i], 0.001, INFINITY, &hb);
-        bad += xa != xb || (xa && ha.t != hb.t);
+        bad += bench_hits_differ(xa, &ha, xb, &hb);
     }
     double best_a = INFINITY, best_b = INFINITY;
     for (int q = 0; q < rounds; q++) {

@@ -86,8 +86,7 @@ static void time_classes(const rt_accel *bvh, const rt_scene *s, const rt_ray *r
 }
 
 /* Rays among rays[0], rays[every], ... on which two exact intersectors
- * disagree: a hit against a miss, or another t (an exact tie between two
- * spheres may name either, as in tests/test_accel.c). Untimed. */
+ * disagree (bench_hits_differ). Untimed. */
 static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *rays, size_t n, size_t every)
 {
     size_t bad = 0;
@@ -95,7 +94,7 @@ static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *
         rt_hit hx = {0, 0}, hy = {0, 0};
         int a = rt_accel_closest(x, &rays[i], 0.001, INFINITY, &hx);
         int b = rt_accel_closest(y, &rays[i], 0.001, INFINITY, &hy);
-        bad += a != b || (a && hx.t != hy.t);
+        bad += bench_hits_differ(a, &hx, b, &hy);
     }
     return bad;
 }

@@ -9,6 +9,13 @@
 #include "render.h"
 #include "status.h"
 
+/* Two exact intersectors' answers differ: a hit against a miss, or another
+ * t (an exact tie between two spheres may name either). */
+static inline int bench_hits_differ(int ha, const rt_hit *a, int hb, const rt_hit *b)
+{
+    return ha != hb || (ha && a->t != b->t);
+}
+
 /* *rays is malloc'd; RT_OK, or RT_ENOMEM (and nothing allocated). */
 static int bench_capture_rays(const rt_renderer *r, rt_ray **rays, size_t *n)
 {
