@@ -4,7 +4,8 @@
 # one run on this machine, with the ratios that matter:
 #   - our BVH vs brute force (the seeds' algorithm) vs Embree 3 (when the
 #     Embree build exists: build-embree/, made with -DRT_EMBREE=ON), 1 thread;
-#     and our BVH with the portable scalar box test (what non-x86 nodes run)
+#     and our BVH with the SSE2 box test (what x86-64 CPUs without AVX run)
+#     and with the portable scalar one (what non-x86 nodes run)
 #   - -j 2 vs -j 1 (thread scaling)
 #   - mpirun -np 2 -j 1 vs -j 2 (the no-wasted-core check: rank 0 serves
 #     work without stealing a core from rendering)
@@ -41,12 +42,17 @@ trap 'rm -rf "$TMP"' EXIT
 COMMON=(--width "$W" --height "$H" -s "$S" -q --no-checkpoint -o "$TMP/b.png")
 
 declare -A RATE WALL
-NAMES=("bvh -j 1" "bvh-scalar -j 1" "brute -j 1")
+box_test() { # accel: the box test this machine runs for it, from the summary
+    "$BIN" --width 8 --height 8 -s 1 -j 1 --no-checkpoint -o "$TMP/box.png" --accel "$1" 2>/dev/null |
+        sed -n 's/^intersector: *[^ ]* (\([a-z0-9]*\) box test.*/\1/p'
+}
+NAMES=("bvh -j 1" "bvh-sse -j 1" "bvh-scalar -j 1" "brute -j 1")
 [ -x "$EMBREE_BIN" ] && NAMES+=("embree -j 1" "bvh (embree build) -j 1")
 NAMES+=("bvh -j 2" "mpirun -np 2 -j 1")
 run_config() { # name: one run of that configuration
     case $1 in
     "bvh -j 1") "$BIN" "${COMMON[@]}" -j 1 ;;
+    "bvh-sse -j 1") "$BIN" "${COMMON[@]}" -j 1 --accel bvh-sse ;;
     "bvh-scalar -j 1") "$BIN" "${COMMON[@]}" -j 1 --accel bvh-scalar ;;
     "brute -j 1") "$BIN" "${COMMON[@]}" -s $(((S + 7) / 8)) -j 1 --accel brute ;; # the last -s wins
     "embree -j 1") "$EMBREE_BIN" "${COMMON[@]}" -j 1 --accel embree ;;
@@ -76,7 +82,8 @@ for name in "${NAMES[@]}"; do
 done
 echo "ratios:"
 echo "  bvh / brute force (1 thread):            $(ratio "${RATE[bvh -j 1]}" "${RATE[brute -j 1]}")"
-echo "  bvh / bvh-scalar (SSE box test gain):    $(ratio "${RATE[bvh -j 1]}" "${RATE[bvh-scalar -j 1]}")"
+printf '  %-40s %s\n' "bvh / bvh-sse ($(box_test bvh) / sse2 box test):" "$(ratio "${RATE[bvh -j 1]}" "${RATE[bvh-sse -j 1]}")"
+echo "  bvh-sse / bvh-scalar (sse2 / portable):  $(ratio "${RATE[bvh-sse -j 1]}" "${RATE[bvh-scalar -j 1]}")"
 if [ -x "$EMBREE_BIN" ]; then
     echo "  bvh / embree (1 thread, same build):     $(ratio "${RATE[bvh (embree build) -j 1]}" "${RATE[embree -j 1]}")"
 fi

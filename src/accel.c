@@ -1,5 +1,5 @@
 /* accel.c - the intersector front end: dispatch to our BVH (SIMD or
- * portable box test), brute force (every sphere for every ray, as the seed
+ * SSE2 or portable box test), brute force (every sphere for every ray, as the seed
  * renderers do) or Embree. */
 #include "accel.h"
 
@@ -33,6 +33,7 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
     switch (kind) {
     case RT_ACCEL_BVH:
     case RT_ACCEL_BVH_SCALAR:
+    case RT_ACCEL_BVH_SSE:
         st = rt_bvh_build(&a->bvh, s);
         break;
     case RT_ACCEL_BRUTE:
@@ -93,6 +94,8 @@ int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double t
         return rt_bvh_closest(a->bvh, ray, tmin, tmax, hit);
     case RT_ACCEL_BVH_SCALAR:
         return rt_bvh_closest_portable(a->bvh, ray, tmin, tmax, hit);
+    case RT_ACCEL_BVH_SSE:
+        return rt_bvh_closest_sse(a->bvh, ray, tmin, tmax, hit);
 #ifdef RT_HAVE_EMBREE
     case RT_ACCEL_EMBREE:
         return rt_embree_closest(a->embree, a->scene, ray, tmin, tmax, hit);
@@ -113,6 +116,8 @@ const char *rt_accel_name(rt_accel_kind kind)
         return "embree";
     case RT_ACCEL_BVH_SCALAR:
         return "bvh-scalar";
+    case RT_ACCEL_BVH_SSE:
+        return "bvh-sse";
     }
     return "?";
 }
@@ -127,12 +132,28 @@ int rt_accel_parse(const char *name)
         return RT_ACCEL_EMBREE;
     if (!strcmp(name, "bvh-scalar"))
         return RT_ACCEL_BVH_SCALAR;
+    if (!strcmp(name, "bvh-sse"))
+        return RT_ACCEL_BVH_SSE;
     return -1;
 }
 
 size_t rt_accel_bytes(const rt_accel *a)
 {
     return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0);
+}
+
+const char *rt_accel_box_test(const rt_accel *a)
+{
+    switch (a->kind) {
+    case RT_ACCEL_BVH:
+        return rt_bvh_box_test(a->bvh);
+    case RT_ACCEL_BVH_SSE:
+        return rt_bvh_box_test_sse();
+    case RT_ACCEL_BVH_SCALAR:
+        return "portable";
+    default:
+        return NULL;
+    }
 }
 
 const struct rt_bvh *rt_accel_bvh(const rt_accel *a)

@@ -15,6 +15,7 @@ typedef enum rt_accel_kind {
     RT_ACCEL_BRUTE = 1,
     RT_ACCEL_EMBREE = 2,
     RT_ACCEL_BVH_SCALAR = 3, /* our BVH with the portable box test (as non-x86 nodes run it) */
+    RT_ACCEL_BVH_SSE = 4,    /* our BVH with the SSE2 box test even on AVX CPUs (as x86-64 CPUs without AVX run it) */
 } rt_accel_kind;
 
 typedef struct rt_hit {
@@ -33,12 +34,16 @@ void rt_accel_free(rt_accel *a);
  * from many threads at once. */
 int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 
-/* "bvh", "brute", "embree", "bvh-scalar"; and parsing back (-1 when unknown). */
+/* "bvh", "brute", "embree", "bvh-scalar", "bvh-sse"; and parsing back (-1
+ * when unknown). */
 const char *rt_accel_name(rt_accel_kind kind);
 int rt_accel_parse(const char *name);
+/* The box test our BVH runs in a ("avx", "sse2" or "portable"), NULL for
+ * the other intersectors. */
+const char *rt_accel_box_test(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
-/* Our BVH inside a (the bvh and bvh-scalar kinds), else NULL: for tests and
+/* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds), else NULL: for tests and
  * benchmarks that query it directly (rt_bvh_closest_counted). */
 const struct rt_bvh *rt_accel_bvh(const rt_accel *a);
 

@@ -22,11 +22,21 @@
 #include "sphere.h"
 #include "status.h"
 
+#ifndef WIDTH
+#define WIDTH 8 /* children per node: a multiple of 4 (the SSE box test takes four at a time) */
+#endif
 #if defined(__SSE2__) && !defined(RT_NO_SIMD)
-#include <emmintrin.h>
+#include <immintrin.h>
 #define RT_BVH_SSE 1
 #else
 #define RT_BVH_SSE 0
+#endif
+/* The AVX box test: x86-64 builds with GCC or clang (bvh.h), picked at run
+ * time. */
+#if RT_BVH_HAVE_AVX && RT_BVH_SSE && WIDTH == 8
+#define RT_BVH_AVX 1
+#else
+#define RT_BVH_AVX 0
 #endif
 
 #ifndef LEAF_MAX
@@ -38,16 +48,19 @@
 #ifndef BINS
 #define BINS 16
 #endif
-#define STACK_MAX 256
 #define OUTSIDE_MAX 4 /* spheres tested before the traversal, at most */
 
-typedef struct node4 {
-    float bmin[3][4];
-    float bmax[3][4];
-    int32_t child[4]; /* >= 0: node index; < 0: ~(start << 4 | (count - 1)) */
-    int32_t nchild; /* bit mask of the child slots in use */
-    int32_t pad[3];
-} node4;
+/* Entries the traversal stack can need: each node pushes WIDTH - 1 at most,
+ * once per level, and the build keeps the tree shallower than this (splits
+ * go to the median past depth 48, so 48 + 32 levels for 2^32 spheres). */
+#define STACK_MAX ((WIDTH - 1) * 80)
+
+typedef struct node {
+    _Alignas(64) float bmin[3][WIDTH]; /* rows x, y, z of the children's boxes */
+    float bmax[3][WIDTH];
+    int32_t child[WIDTH]; /* >= 0: node index; < 0: ~(start << 4 | (count - 1)) */
+    int32_t nchild;       /* bit mask of the child slots in use */
+} node;
 
 typedef struct prim {
     double c[3];
@@ -57,13 +70,14 @@ typedef struct prim {
 } prim;
 
 struct rt_bvh {
-    node4 *nodes;
+    node *nodes;
     int n_nodes, cap_nodes;
     prim *prims; /* the tree's spheres, in leaf order */
     uint32_t n_prims;
     int depth, leaves;
     prim outside[OUTSIDE_MAX]; /* spheres left out of the tree */
     int n_outside;
+    int avx; /* rt_bvh_closest runs the AVX box test */
 };
 
 /* ---- build ------------------------------------------------------------- */
@@ -299,7 +313,7 @@ static int collapse(collapser *C, int bid, int depth)
         o->depth = depth;
     if (o->n_nodes == o->cap_nodes) {
         int nc = o->cap_nodes ? 2 * o->cap_nodes : 64;
-        node4 *q = NULL;
+        node *q = NULL;
         if (posix_memalign((void **)&q, 64, (size_t)nc * sizeof *q) != 0)
             return RT_ENOMEM;
         if (o->nodes)
@@ -309,15 +323,15 @@ static int collapse(collapser *C, int bid, int depth)
         o->cap_nodes = nc;
     }
     int me = o->n_nodes++;
-    int kids[4], nk = 0;
+    int kids[WIDTH], nk = 0;
     if (B->n[bid].left < 0) { /* a root that is a single leaf */
         kids[nk++] = bid;
     } else {
         kids[nk++] = B->n[bid].left;
         kids[nk++] = B->n[bid].right;
     }
-    /* Open the largest internal child until there are four. */
-    while (nk < 4) {
+    /* Open the largest internal child until there are WIDTH. */
+    while (nk < WIDTH) {
         int best = -1;
         double best_area = -1;
         for (int k = 0; k < nk; k++) {
@@ -333,10 +347,10 @@ static int collapse(collapser *C, int bid, int depth)
         kids[best] = B->n[open].left;
         kids[nk++] = B->n[open].right;
     }
-    node4 tmp;
+    node tmp;
     memset(&tmp, 0, sizeof tmp);
     tmp.nchild = (1 << nk) - 1;
-    for (int k = 0; k < 4; k++) {
+    for (int k = 0; k < WIDTH; k++) {
         if (k >= nk) {
             for (int a = 0; a < 3; a++) {
                 tmp.bmin[a][k] = INFINITY;
@@ -395,6 +409,10 @@ int rt_bvh_build(rt_bvh **out, const rt_scene *s)
     }
     if (!st)
         n = take_outside(o, s, B.pbox, B.order, n);
+#if RT_BVH_AVX
+    __builtin_cpu_init();
+    o->avx = __builtin_cpu_supports("avx");
+#endif
     if (!st && n > 0) {
         int root = build_rec(&B, 0, n, 0);
         st = root < 0 ? (B.err ? B.err : RT_ENOMEM) : B.err;
@@ -433,7 +451,7 @@ void rt_bvh_free(rt_bvh *b)
 
 size_t rt_bvh_bytes(const rt_bvh *b)
 {
-    return sizeof *b + (size_t)b->cap_nodes * sizeof(node4) + (size_t)b->n_prims * sizeof(prim);
+    return sizeof *b + (size_t)b->cap_nodes * sizeof(node) + (size_t)b->n_prims * sizeof(prim);
 }
 
 int rt_bvh_outside(const rt_bvh *b) { return b->n_outside; }
@@ -482,152 +500,76 @@ static inline float safe_inv(double d)
     return 1.0f / f;
 }
 
-/* Ordered depth-first traversal: the nearest hit child is visited next
- * without touching the stack, the others are pushed far to near with their
- * entry distance, and popped entries beyond the current closest hit are
- * dropped. Boxes are tested against the planes a ray meets first and last
- * (chosen once per ray by the direction's signs), so no min/max swap is
- * needed per box. */
-static inline __attribute__((always_inline)) int closest(const rt_bvh *b, const rt_ray *ray, double tmin,
-                                                          double tmax, rt_hit *hit, const int simd,
-                                                          rt_bvh_counts *counts)
-{
-    if (!b->n_nodes) /* an empty scene: the tree keeps one sphere at least */
-        return 0;
-    const double a = rt_v3_len2(ray->dir);
-    double closest = tmax;
-    uint32_t best = UINT32_MAX;
-    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
-    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
-    /* Row of the near plane per axis in node4.bmin/bmax, seen as float[6][4]. */
-    const int nx = fi[0] < 0 ? 3 : 0, ny = fi[1] < 0 ? 4 : 1, nz = fi[2] < 0 ? 5 : 2;
-    const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
-    const float tmin_f = (float)tmin * 0.999f;
-#if RT_BVH_SSE
-    const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
-    const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
-    const __m128 vtmin = _mm_set1_ps(tmin_f);
+/* The traversal, once per instruction set: bvh_traverse.h holds its body.
+ * The baseline copy runs the SSE2 box test (four children at a time) or the
+ * portable one; the AVX copy, compiled for AVX and run only where the CPU
+ * has it (rt_bvh_build decides), tests eight children at once. All three do
+ * the same float operations in the same order (no fused multiply-add), so
+ * they find the same children with the same entry distances, visit them in
+ * the same order, and the image does not depend on which one a node runs. */
+#define TRAVERSE closest_base
+#define TRAVERSE_ATTR static inline __attribute__((always_inline))
+#define TRAV_AVX 0
+#include "bvh_traverse.h"
+#undef TRAVERSE
+#undef TRAVERSE_ATTR
+#undef TRAV_AVX
+
+#if RT_BVH_AVX
+#ifdef __clang__
+#pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
 #else
-    (void)simd;
+#pragma GCC push_options
+#pragma GCC target("avx")
 #endif
-    /* The spheres outside the tree first: a hit on one bounds the traversal. */
-    test_spheres(b->outside, (uint32_t)b->n_outside, ray, a, tmin, &closest, &best, counts);
-    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
-    int32_t stack_node[STACK_MAX];
-    float stack_t[STACK_MAX];
-    int sp = 0;
-    int32_t code = 0;
-    for (;;) {
-        if (code < 0) {
-            if (leaf_hit(b, code, ray, a, tmin, &closest, &best, counts))
-                tfar_f = (float)closest * 1.0001f;
-        } else {
-            const node4 *n = &b->nodes[code];
-            if (counts)
-                counts->nodes++;
-            const float(*rows)[4] = (const float(*)[4])n->bmin; /* bmin then bmax: 6 rows */
-            float tn[4];
-            int mask;
-#if RT_BVH_SSE
-            if (simd) {
-                __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx]), ox), ix);
-                __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny]), oy), iy);
-                __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz]), oz), iz);
-                __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx]), ox), ix);
-                __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy]), oy), iy);
-                __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz]), oz), iz);
-                __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
-                __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
-                mask = _mm_movemask_ps(_mm_cmple_ps(vn, vf)) & n->nchild;
-                _mm_storeu_ps(tn, vn);
-            } else
-#endif
-            {
-                mask = 0;
-                for (int k = 0; k < 4; k++) {
-                    float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
-                    float t2 = (rows[nz][k] - fo[2]) * fi[2];
-                    float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
-                    float u2 = (rows[fz][k] - fo[2]) * fi[2];
-                    float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
-                    near = t2 > near ? t2 : near;
-                    near = tmin_f > near ? tmin_f : near;
-                    far = u2 < far ? u2 : far;
-                    far = tfar_f < far ? tfar_f : far;
-                    tn[k] = near;
-                    mask |= (near <= far) << k;
-                }
-                mask &= n->nchild;
-            }
-            if (mask) {
-                int c0 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (!mask) { /* one child: go straight on */
-                    code = n->child[c0];
-                    continue;
-                }
-                int c1 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (!mask) { /* two: push the far one */
-                    int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
-                    stack_node[sp] = n->child[far];
-                    stack_t[sp++] = tn[far];
-                    code = n->child[near];
-                    continue;
-                }
-                /* three or four: sort by entry distance, far first */
-                int32_t cc[4];
-                float ct[4];
-                int m = 0, k = c0;
-                for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
-                    k = __builtin_ctz(left);
-                    int j = m++;
-                    while (j > 0 && ct[j - 1] < tn[k]) {
-                        ct[j] = ct[j - 1];
-                        cc[j] = cc[j - 1];
-                        j--;
-                    }
-                    ct[j] = tn[k];
-                    cc[j] = n->child[k];
-                }
-                for (int q = 0; q < m - 1; q++) {
-                    stack_node[sp] = cc[q];
-                    stack_t[sp++] = ct[q];
-                }
-                code = cc[m - 1];
-                continue;
-            }
-        }
-        /* pop the next entry that can still hold a closer hit */
-        for (;;) {
-            if (sp == 0)
-                goto done;
-            sp--;
-            if (stack_t[sp] <= tfar_f)
-                break;
-        }
-        code = stack_node[sp];
-    }
-done:
-    if (best == UINT32_MAX)
-        return 0;
-    hit->t = closest;
-    hit->prim = best;
-    return 1;
+#define TRAVERSE closest_avx
+#define TRAVERSE_ATTR static inline __attribute__((always_inline))
+#define TRAV_AVX 1
+#include "bvh_traverse.h"
+#undef TRAVERSE
+#undef TRAVERSE_ATTR
+#undef TRAV_AVX
+int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    return closest_avx(b, ray, tmin, tmax, hit, 1, NULL);
 }
+#ifdef __clang__
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#elif RT_BVH_HAVE_AVX /* a build with other nodes than WIDTH 8: no AVX test */
+int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
+}
+#endif
 
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
+#if RT_BVH_AVX
+    if (b->avx)
+        return rt_bvh_closest_avx(b, ray, tmin, tmax, hit);
+#endif
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
 }
+
+int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
+}
+
+const char *rt_bvh_box_test_sse(void) { return RT_BVH_SSE ? "sse2" : "portable"; }
+
+const char *rt_bvh_box_test(const rt_bvh *b) { return b->avx ? "avx" : rt_bvh_box_test_sse(); }
 
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    return closest(b, ray, tmin, tmax, hit, 0, NULL);
+    return closest_base(b, ray, tmin, tmax, hit, 0, NULL);
 }
 
 int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
                            rt_bvh_counts *counts)
 {
-    return closest(b, ray, tmin, tmax, hit, RT_BVH_SSE, counts);
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, counts);
 }

@@ -1,6 +1,8 @@
-/* bvh.h - our acceleration structure: a 4-wide bounding volume hierarchy
- * built with the surface area heuristic and traversed four boxes at a time
- * (SSE on x86-64, a scalar loop with the same results elsewhere). */
+/* bvh.h - our acceleration structure: an 8-wide bounding volume hierarchy
+ * built with the surface area heuristic, whose traversal tests a node's
+ * eight boxes at once with AVX where the CPU has it, four at a time with SSE2
+ * on other x86-64 CPUs, and in a scalar loop elsewhere, all with the same
+ * results. */
 #ifndef RT_BVH_H
 #define RT_BVH_H
 
@@ -14,13 +16,32 @@ typedef struct rt_bvh rt_bvh;
 
 int rt_bvh_build(rt_bvh **out, const rt_scene *s);
 void rt_bvh_free(rt_bvh *b);
+/* Closest hit with the fastest box test the CPU has (rt_bvh_box_test). */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+/* The same traversal with the baseline box test: SSE2 on x86-64 even where
+ * AVX is present (what x86-64 CPUs without AVX run), else the portable one.
+ * It finds the same hits; --accel bvh-sse renders with it. */
+int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 /* The same traversal with the portable box test, a scalar loop: what builds
  * without SSE2 (non-x86 nodes, RT_NO_SIMD) run. It finds the same hits;
  * --accel bvh-scalar renders with it, so any node can check that. */
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+/* x86-64 builds with GCC or clang: the AVX traversal on its own, for code
+ * compiled for AVX to inline (rt_render_rows); only where the CPU has AVX
+ * (rt_bvh_box_test says "avx"). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(RT_NO_SIMD) && !defined(RT_NO_AVX)
+#define RT_BVH_HAVE_AVX 1
+__attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
+                                                      rt_hit *hit);
+#else
+#define RT_BVH_HAVE_AVX 0
+#endif
+/* The box test rt_bvh_closest runs on this CPU: "avx", "sse2" or "portable";
+ * and the one rt_bvh_closest_sse runs: "sse2" or "portable". */
+const char *rt_bvh_box_test(const rt_bvh *b);
+const char *rt_bvh_box_test_sse(void);
 /* The traversal of rt_bvh_closest, counting as it goes: nodes visited
- * (box tests of four children) and spheres tested, added to *counts. For
+ * (box tests of up to eight children) and spheres tested, added to *counts. For
  * benchmarks and tests; the two functions above count nothing. */
 typedef struct rt_bvh_counts {
     uint64_t nodes, spheres;

@@ -66,8 +66,10 @@ const char *rt_cli_usage(void)
            "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
            "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
            "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray), embree\n"
-           "                           (only in builds with -DRT_EMBREE=ON) or bvh-scalar (the BVH\n"
-           "                           with the portable box test that non-x86 nodes run) [default: bvh]\n"
+           "                           (only in builds with -DRT_EMBREE=ON), bvh-sse (the BVH with the\n"
+           "                           SSE2 box test that x86-64 CPUs without AVX run) or bvh-scalar\n"
+           "                           (the BVH with the portable box test that non-x86 nodes run)\n"
+           "                           [default: bvh]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
            "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
@@ -188,7 +190,7 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
     int k;
     if (!strcmp(d->lng, "accel")) {
         if ((k = rt_accel_parse(val)) < 0) {
-            snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree, bvh-scalar", name, val);
+            snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree, bvh-scalar, bvh-sse", name, val);
             return -1;
         }
         o->accel = k;

@@ -109,9 +109,9 @@ int main(int argc, char **argv)
     }
     uint32_t H = W * 2 / 3;
     rt_scene s;
-    rt_accel *bvh = NULL, *brute = NULL, *embree = NULL;
+    rt_accel *bvh = NULL, *sse = NULL, *brute = NULL, *embree = NULL;
     if (rt_scene_build_final(&s, 42, 11) || rt_accel_new(&bvh, &s, RT_ACCEL_BVH) ||
-        rt_accel_new(&brute, &s, RT_ACCEL_BRUTE)) {
+        rt_accel_new(&sse, &s, RT_ACCEL_BVH_SSE) || rt_accel_new(&brute, &s, RT_ACCEL_BRUTE)) {
         fprintf(stderr, "bench_accel: cannot build the scene\n");
         return 1;
     }
@@ -131,8 +131,9 @@ int main(int argc, char **argv)
     printf("bench_accel: final scene, %ux%u, %u spp: %zu rays from the renderer's paths, %u spheres\n", W, H, S, n,
            s.n_spheres);
     printf("closest hit only, 1 thread, best of 3 (brute force on every %zu-th ray):\n", every);
-    double tb = time_kind(bvh, rays, n, 1), tf = time_kind(brute, rays, n, every);
-    printf("  bvh     %8.1f ns/ray\n", tb);
+    double tb = time_kind(bvh, rays, n, 1), ts = time_kind(sse, rays, n, 1), tf = time_kind(brute, rays, n, every);
+    printf("  bvh     %8.1f ns/ray  (%s box test)\n", tb, rt_accel_box_test(bvh));
+    printf("  bvh-sse %8.1f ns/ray  (%s box test)\n", ts, rt_accel_box_test(sse));
     printf("  brute   %8.1f ns/ray\n", tf);
     if (have_embree) {
         double te = time_kind(embree, rays, n, 1);
@@ -144,8 +145,13 @@ int main(int argc, char **argv)
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
     if (bad)
         fprintf(stderr, "bench_accel: bvh and brute force disagree on %zu of the %zu rays compared\n", bad, checked);
+    size_t bad_sse = disagreements(bvh, sse, rays, n, 1);
+    if (bad_sse)
+        fprintf(stderr, "bench_accel: bvh and bvh-sse disagree on %zu of the %zu rays\n", bad_sse, n);
+    bad += bad_sse;
     rt_accel_free(embree);
     rt_accel_free(brute);
+    rt_accel_free(sse);
     rt_accel_free(bvh);
     rt_scene_free(&s);
     free(rays);

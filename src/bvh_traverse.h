@@ -1,0 +1,163 @@
+/* bvh_traverse.h - the closest-hit traversal of bvh.c, which includes it
+ * once per instruction set: it defines TRAVERSE (the function's name,
+ * declared with TRAVERSE_ATTR), with the AVX box test when TRAV_AVX is 1,
+ * else the SSE2 one (when the build has SSE2) or the portable one, as the
+ * argument `simd` says. Not a header to include anywhere else.
+ *
+ * Ordered depth-first traversal: the nearest hit child is visited next
+ * without touching the stack, the others are pushed far to near with their
+ * entry distance, and popped entries beyond the current closest hit are
+ * dropped. Boxes are tested against the planes a ray meets first and last
+ * (chosen once per ray by the direction's signs), so no min/max swap is
+ * needed per box. */
+
+TRAVERSE_ATTR int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
+                           const int simd, rt_bvh_counts *counts)
+{
+    if (!b->n_nodes) /* an empty scene: the tree keeps one sphere at least */
+        return 0;
+    const double a = rt_v3_len2(ray->dir);
+    double closest = tmax;
+    uint32_t best = UINT32_MAX;
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+    /* Row of the near plane per axis in node.bmin/bmax, seen as float[6][WIDTH]. */
+    const int nx = fi[0] < 0 ? 3 : 0, ny = fi[1] < 0 ? 4 : 1, nz = fi[2] < 0 ? 5 : 2;
+    const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
+    const float tmin_f = (float)tmin * 0.999f;
+#if TRAV_AVX
+    (void)simd;
+    const __m256 ox = _mm256_set1_ps(fo[0]), oy = _mm256_set1_ps(fo[1]), oz = _mm256_set1_ps(fo[2]);
+    const __m256 ix = _mm256_set1_ps(fi[0]), iy = _mm256_set1_ps(fi[1]), iz = _mm256_set1_ps(fi[2]);
+    const __m256 vtmin = _mm256_set1_ps(tmin_f);
+#elif RT_BVH_SSE
+    const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
+    const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
+    const __m128 vtmin = _mm_set1_ps(tmin_f);
+#else
+    (void)simd;
+#endif
+    /* The spheres outside the tree first: a hit on one bounds the traversal. */
+    test_spheres(b->outside, (uint32_t)b->n_outside, ray, a, tmin, &closest, &best, counts);
+    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
+    int32_t stack_node[STACK_MAX];
+    float stack_t[STACK_MAX];
+    int sp = 0;
+    int32_t code = 0;
+    for (;;) {
+        if (code < 0) {
+            if (leaf_hit(b, code, ray, a, tmin, &closest, &best, counts))
+                tfar_f = (float)closest * 1.0001f;
+        } else {
+            const node *n = &b->nodes[code];
+            if (counts)
+                counts->nodes++;
+            const float(*rows)[WIDTH] = (const float(*)[WIDTH])n->bmin; /* bmin then bmax: 6 rows */
+            float tn[WIDTH];
+            int mask;
+#if TRAV_AVX
+            {
+                __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nx]), ox), ix);
+                __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[ny]), oy), iy);
+                __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nz]), oz), iz);
+                __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fx]), ox), ix);
+                __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fy]), oy), iy);
+                __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fz]), oz), iz);
+                __m256 vn = _mm256_max_ps(_mm256_max_ps(tnx, tny), _mm256_max_ps(tnz, vtmin));
+                __m256 vf = _mm256_min_ps(_mm256_min_ps(tfx, tfy), _mm256_min_ps(tfz, _mm256_set1_ps(tfar_f)));
+                mask = _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ)) & n->nchild;
+                _mm256_storeu_ps(tn, vn);
+            }
+#else
+#if RT_BVH_SSE
+            if (simd) {
+                mask = 0;
+                for (int h = 0; h < WIDTH; h += 4) {
+                    __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx] + h), ox), ix);
+                    __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny] + h), oy), iy);
+                    __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz] + h), oz), iz);
+                    __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx] + h), ox), ix);
+                    __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy] + h), oy), iy);
+                    __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz] + h), oz), iz);
+                    __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
+                    __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
+                    mask |= _mm_movemask_ps(_mm_cmple_ps(vn, vf)) << h;
+                    _mm_storeu_ps(tn + h, vn);
+                }
+                mask &= n->nchild;
+            } else
+#endif
+            {
+                mask = 0;
+                for (int k = 0; k < WIDTH; k++) {
+                    float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
+                    float t2 = (rows[nz][k] - fo[2]) * fi[2];
+                    float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
+                    float u2 = (rows[fz][k] - fo[2]) * fi[2];
+                    float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
+                    near = t2 > near ? t2 : near;
+                    near = tmin_f > near ? tmin_f : near;
+                    far = u2 < far ? u2 : far;
+                    far = tfar_f < far ? tfar_f : far;
+                    tn[k] = near;
+                    mask |= (near <= far) << k;
+                }
+                mask &= n->nchild;
+            }
+#endif
+            if (mask) {
+                int c0 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* one child: go straight on */
+                    code = n->child[c0];
+                    continue;
+                }
+                int c1 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* two: push the far one */
+                    int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
+                    stack_node[sp] = n->child[far];
+                    stack_t[sp++] = tn[far];
+                    code = n->child[near];
+                    continue;
+                }
+                /* more: sort by entry distance, far first */
+                int32_t cc[WIDTH];
+                float ct[WIDTH];
+                int m = 0, k = c0;
+                for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
+                    k = __builtin_ctz(left);
+                    int j = m++;
+                    while (j > 0 && ct[j - 1] < tn[k]) {
+                        ct[j] = ct[j - 1];
+                        cc[j] = cc[j - 1];
+                        j--;
+                    }
+                    ct[j] = tn[k];
+                    cc[j] = n->child[k];
+                }
+                for (int q = 0; q < m - 1; q++) {
+                    stack_node[sp] = cc[q];
+                    stack_t[sp++] = ct[q];
+                }
+                code = cc[m - 1];
+                continue;
+            }
+        }
+        /* pop the next entry that can still hold a closer hit */
+        for (;;) {
+            if (sp == 0)
+                goto done;
+            sp--;
+            if (stack_t[sp] <= tfar_f)
+                break;
+        }
+        code = stack_node[sp];
+    }
+done:
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = closest;
+    hit->prim = best;
+    return 1;
+}
