@@ -4,9 +4,11 @@
 # the same binary and inputs, whatever else the machine is doing. Builds the
 # program in $PROFILE_BUILD_DIR (default build-profile/): release flags,
 # baseline x86-64 (no -march: valgrind 3.19 cannot decode AVX-512), -g, and
-# no LTO, so the intersector stays a function of its own (rt_accel_closest,
-# one call per ray segment). Renders the final scene at 150x100, 8 spp,
-# 1 thread unless the options say otherwise (later options win), e.g.
+# no LTO, so the intersector stays a function of its own, called once per
+# ray segment: rt_bvh_closest_avx where the render runs its AVX path loop
+# (our BVH on a CPU with AVX), else rt_accel_closest. Renders the final
+# scene at 150x100, 8 spp, 1 thread unless the options say otherwise (later
+# options win), e.g.
 #   scripts/profile.sh --accel brute --width 60 --height 40 -s 2
 # and prints instructions per ray segment: in the intersector (per query)
 # and in everything else of the render (camera, shading, sampling, RNG).
@@ -44,10 +46,13 @@ def calls(fn):
     m = re.search(r"((?:%s<.*\n)+)%s" % (LINE, own_line(fn)), text, re.M)
     return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", m.group(1))) if m else 0
 segs = stats["ray_segments"]
-render, query, n = inclusive("rt_render_rows"), inclusive("rt_accel_closest"), calls("rt_accel_closest")
+# The AVX path loop calls the AVX traversal itself; every other one goes
+# through rt_accel_closest.
+fn = "rt_bvh_closest_avx" if re.search(own_line("rt_bvh_closest_avx"), text, re.M) else "rt_accel_closest"
+render, query, n = inclusive("rt_render_rows"), inclusive(fn), calls(fn)
 if n != segs:
-    sys.exit("profile.sh: %d calls of rt_accel_closest, %d ray segments: per-query counts would be wrong" % (n, segs))
-print("profile.sh: callgrind, rt-mpi %s" % opts)
+    sys.exit("profile.sh: %d calls of %s, %d ray segments: per-query counts would be wrong" % (n, fn, segs))
+print("profile.sh: callgrind, rt-mpi %s (intersector: %s)" % (opts, fn))
 print("  ray segments                          %12d" % segs)
 print("  instructions in the render            %12d" % render)
 print("  per segment                           %12.1f" % (render / segs))

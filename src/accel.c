@@ -156,6 +156,11 @@ const char *rt_accel_box_test(const rt_accel *a)
     }
 }
 
+const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a)
+{
+    return a->kind == RT_ACCEL_BVH && rt_bvh_uses_avx(a->bvh) ? a->bvh : NULL;
+}
+
 const struct rt_bvh *rt_accel_bvh(const rt_accel *a)
 {
     return a->bvh;

@@ -41,6 +41,10 @@ int rt_accel_parse(const char *name);
 /* The box test our BVH runs in a ("avx", "sse2" or "portable"), NULL for
  * the other intersectors. */
 const char *rt_accel_box_test(const rt_accel *a);
+/* Our BVH inside a when a runs it with the AVX box test (the bvh kind on a
+ * CPU with AVX), else NULL: for code compiled for AVX that calls
+ * rt_bvh_closest_avx itself (rt_render_rows). */
+const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
 /* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds), else NULL: for tests and

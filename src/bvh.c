@@ -563,6 +563,8 @@ const char *rt_bvh_box_test_sse(void) { return RT_BVH_SSE ? "sse2" : "portable";
 
 const char *rt_bvh_box_test(const rt_bvh *b) { return b->avx ? "avx" : rt_bvh_box_test_sse(); }
 
+int rt_bvh_uses_avx(const rt_bvh *b) { return b->avx; }
+
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
     return closest_base(b, ray, tmin, tmax, hit, 0, NULL);

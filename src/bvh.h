@@ -39,6 +39,9 @@ __attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_
 /* The box test rt_bvh_closest runs on this CPU: "avx", "sse2" or "portable";
  * and the one rt_bvh_closest_sse runs: "sse2" or "portable". */
 const char *rt_bvh_box_test(const rt_bvh *b);
+/* 1 when rt_bvh_closest runs the AVX box test (then rt_bvh_closest_avx may
+ * be called), else 0. */
+int rt_bvh_uses_avx(const rt_bvh *b);
 const char *rt_bvh_box_test_sse(void);
 /* The traversal of rt_bvh_closest, counting as it goes: nodes visited
  * (box tests of up to eight children) and spheres tested, added to *counts. For

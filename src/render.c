@@ -6,6 +6,7 @@
 #include <omp.h>
 #endif
 
+#include "bvh.h"
 #include "status.h"
 
 static inline int omp_thread(void)
@@ -28,13 +29,17 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->accel = a;
     r->p = *p;
     r->stop = NULL;
+    r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
 /* One sample's path; when rays is not NULL, every ray traced is stored
- * there (rt_render_sample passes NULL, and the stores fold away). */
-static inline rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments,
-                                 rt_ray *rays)
+ * there (rt_render_sample passes NULL, and the stores fold away). With avx,
+ * the closest hits come from the BVH's AVX traversal (r->bvh_avx), and the
+ * caller must be compiled for AVX. */
+static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y,
+                                                                uint32_t sample, uint64_t *segments, rt_ray *rays,
+                                                                const int avx)
 {
     const uint32_t W = r->p.width, H = r->p.height;
     rt_rng rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
@@ -50,7 +55,14 @@ static inline rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y, u
         if (rays)
             rays[segs] = ray;
         segs++;
-        if (!rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit)) {
+#if RT_BVH_HAVE_AVX
+        int found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
+                        : rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+#else
+        (void)avx;
+        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+#endif
+        if (!found) {
             rt_vec3 ud = rt_v3_unit(ray.dir);
             double t = 0.5 * (ud.y + 1.0);
             rt_vec3 sky = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
@@ -73,15 +85,55 @@ static inline rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y, u
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
-    return trace_path(r, x, y, sample, segments, NULL);
+    return trace_path(r, x, y, sample, segments, NULL, 0);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
 {
     uint64_t segs = 0;
-    trace_path(r, x, y, sample, &segs, rays);
+    trace_path(r, x, y, sample, &segs, rays, 0);
     return (uint32_t)segs;
 }
+
+/* The samples s0..s1-1 of pixel (x, y), summed in fixed point into sum. */
+static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
+                                                            uint32_t s1, int64_t sum[3], const int avx)
+{
+    int64_t sr = 0, sg = 0, sb = 0;
+    uint64_t segs = 0;
+    for (uint32_t s = s0; s < s1; s++) {
+        rt_vec3 c = trace_path(r, x, y, s, &segs, NULL, avx);
+        sr += rt_render_fix(c.x);
+        sg += rt_render_fix(c.y);
+        sb += rt_render_fix(c.z);
+    }
+    sum[0] = sr;
+    sum[1] = sg;
+    sum[2] = sb;
+    return segs;
+}
+
+/* The path loop, twice: in the baseline instruction set, and compiled for
+ * AVX with the BVH's AVX traversal inlined (no fused multiply-add in either:
+ * every operation rounds the same, so the pixels are the same bits; the
+ * determinism test compares the two). flatten inlines the whole path loop
+ * into each, the intersector included: 5.7 % faster renders than calling
+ * the AVX traversal out of line (scripts/ab_render.sh, 1.057 twice). */
+typedef uint64_t (*pixel_fn)(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0, uint32_t s1, int64_t sum[3]);
+
+__attribute__((flatten)) static uint64_t pixel_base(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
+                                                    uint32_t s1, int64_t sum[3])
+{
+    return pixel(r, x, y, s0, s1, sum, 0);
+}
+
+#if RT_BVH_HAVE_AVX
+__attribute__((target("avx"), flatten)) static uint64_t pixel_avx(const rt_renderer *r, uint32_t x, uint32_t y,
+                                                                   uint32_t s0, uint32_t s1, int64_t sum[3])
+{
+    return pixel(r, x, y, s0, s1, sum, 1);
+}
+#endif
 
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads, rt_render_poll_fn poll, void *poll_ctx)
@@ -89,6 +141,11 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
     const uint32_t W = r->p.width;
     const long npix = (long)(y1 - y0) * W;
     uint64_t total = 0;
+    pixel_fn fn = pixel_base;
+#if RT_BVH_HAVE_AVX
+    if (r->bvh_avx)
+        fn = pixel_avx;
+#endif
 #ifdef _OPENMP
     if (nthreads <= 0)
         nthreads = omp_get_max_threads();
@@ -100,20 +157,14 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
         if (r->stop && *r->stop)
             continue;
         uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
-        int64_t sr = 0, sg = 0, sb = 0;
-        uint64_t segs = 0;
-        for (uint32_t s = s0; s < s1; s++) {
-            rt_vec3 c = rt_render_sample(r, x, y, s, &segs);
-            sr += rt_render_fix(c.x);
-            sg += rt_render_fix(c.y);
-            sb += rt_render_fix(c.z);
-        }
+        int64_t sum[3];
+        uint64_t segs = fn(r, x, y, s0, s1, sum);
         if (poll && omp_thread() == 0)
             poll(poll_ctx);
         int64_t *px = acc + i * 3;
-        px[0] += sr;
-        px[1] += sg;
-        px[2] += sb;
+        px[0] += sum[0];
+        px[1] += sum[1];
+        px[2] += sum[2];
         total += segs;
     }
     return total;

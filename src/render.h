@@ -46,6 +46,10 @@ typedef struct rt_renderer {
     /* When set and *stop becomes non-zero (a signal), rt_render_rows skips
      * the remaining pixels; the caller then discards the unit. */
     const volatile sig_atomic_t *stop;
+    /* Our BVH when it runs the AVX box test (rt_accel_bvh_avx), else NULL:
+     * rt_render_rows then runs its copy of the path loop compiled for AVX,
+     * with the AVX traversal inlined. */
+    const struct rt_bvh *bvh_avx;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p);
