@@ -1,6 +1,7 @@
-/* bvh.c - binned-SAH binary build, collapsed into 4-wide nodes with float
- * boxes; closest-hit traversal in SIMD over the four child boxes, exact
- * sphere tests in double.
+/* bvh.c - binned-SAH binary build, collapsed into 8-wide nodes with float
+ * boxes; closest-hit traversal testing a node's child boxes in SIMD (eight
+ * at once with AVX, four at a time with SSE2), exact sphere tests in
+ * double.
  *
  * The float boxes only decide which spheres get tested; hits are computed by
  * rt_sphere_intersect in double, the same code brute force runs. Boxes are
