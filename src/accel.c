@@ -1,5 +1,5 @@
-/* accel.c - the intersector front end: dispatch to our BVH (SIMD or
- * SSE2 or portable box test), brute force (every sphere for every ray, as the seed
+/* accel.c - the intersector front end: dispatch to our BVH (AVX, SSE2 or
+ * portable box test), brute force (every sphere for every ray, as the seed
  * renderers do) or Embree. */
 #include "accel.h"
 
@@ -144,11 +144,12 @@ size_t rt_accel_bytes(const rt_accel *a)
 
 const char *rt_accel_box_test(const rt_accel *a)
 {
+    const char *baseline = RT_BVH_HAVE_SSE2 ? "sse2" : "portable";
     switch (a->kind) {
     case RT_ACCEL_BVH:
-        return rt_bvh_box_test(a->bvh);
+        return rt_bvh_uses_avx(a->bvh) ? "avx" : baseline;
     case RT_ACCEL_BVH_SSE:
-        return rt_bvh_box_test_sse();
+        return baseline;
     case RT_ACCEL_BVH_SCALAR:
         return "portable";
     default:

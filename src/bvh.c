@@ -23,22 +23,11 @@
 #include "sphere.h"
 #include "status.h"
 
-#ifndef WIDTH
-#define WIDTH 8 /* children per node: a multiple of 4 (the SSE box test takes four at a time) */
-#endif
-#if defined(__SSE2__) && !defined(RT_NO_SIMD)
+#if RT_BVH_HAVE_SSE2
 #include <immintrin.h>
-#define RT_BVH_SSE 1
-#else
-#define RT_BVH_SSE 0
 #endif
-/* The AVX box test: x86-64 builds with GCC or clang (bvh.h), picked at run
- * time. */
-#if RT_BVH_HAVE_AVX && RT_BVH_SSE && WIDTH == 8
-#define RT_BVH_AVX 1
-#else
-#define RT_BVH_AVX 0
-#endif
+
+#define WIDTH 8 /* children per node: one AVX register, two SSE2 ones */
 
 #ifndef LEAF_MAX
 #define LEAF_MAX 8
@@ -410,7 +399,7 @@ int rt_bvh_build(rt_bvh **out, const rt_scene *s)
     }
     if (!st)
         n = take_outside(o, s, B.pbox, B.order, n);
-#if RT_BVH_AVX
+#if RT_BVH_HAVE_AVX
     __builtin_cpu_init();
     o->avx = __builtin_cpu_supports("avx");
 #endif
@@ -509,14 +498,12 @@ static inline float safe_inv(double d)
  * they find the same children with the same entry distances, visit them in
  * the same order, and the image does not depend on which one a node runs. */
 #define TRAVERSE closest_base
-#define TRAVERSE_ATTR static inline __attribute__((always_inline))
 #define TRAV_AVX 0
 #include "bvh_traverse.h"
 #undef TRAVERSE
-#undef TRAVERSE_ATTR
 #undef TRAV_AVX
 
-#if RT_BVH_AVX
+#if RT_BVH_HAVE_AVX
 #ifdef __clang__
 #pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
 #else
@@ -524,11 +511,9 @@ static inline float safe_inv(double d)
 #pragma GCC target("avx")
 #endif
 #define TRAVERSE closest_avx
-#define TRAVERSE_ATTR static inline __attribute__((always_inline))
 #define TRAV_AVX 1
 #include "bvh_traverse.h"
 #undef TRAVERSE
-#undef TRAVERSE_ATTR
 #undef TRAV_AVX
 int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
@@ -539,30 +524,21 @@ int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double t
 #else
 #pragma GCC pop_options
 #endif
-#elif RT_BVH_HAVE_AVX /* a build with other nodes than WIDTH 8: no AVX test */
-int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
-{
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
-}
 #endif
 
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-#if RT_BVH_AVX
+#if RT_BVH_HAVE_AVX
     if (b->avx)
         return rt_bvh_closest_avx(b, ray, tmin, tmax, hit);
 #endif
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, NULL);
 }
 
 int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, NULL);
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, NULL);
 }
-
-const char *rt_bvh_box_test_sse(void) { return RT_BVH_SSE ? "sse2" : "portable"; }
-
-const char *rt_bvh_box_test(const rt_bvh *b) { return b->avx ? "avx" : rt_bvh_box_test_sse(); }
 
 int rt_bvh_uses_avx(const rt_bvh *b) { return b->avx; }
 
@@ -574,5 +550,5 @@ int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, dou
 int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
                            rt_bvh_counts *counts)
 {
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_SSE, counts);
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, counts);
 }

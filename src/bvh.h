@@ -16,7 +16,20 @@ typedef struct rt_bvh rt_bvh;
 
 int rt_bvh_build(rt_bvh **out, const rt_scene *s);
 void rt_bvh_free(rt_bvh *b);
-/* Closest hit with the fastest box test the CPU has (rt_bvh_box_test). */
+/* The box tests a build has: SSE2 on x86-64 (unless RT_NO_SIMD); AVX too,
+ * picked at run time, in x86-64 builds with GCC or clang. */
+#if defined(__SSE2__) && !defined(RT_NO_SIMD)
+#define RT_BVH_HAVE_SSE2 1
+#else
+#define RT_BVH_HAVE_SSE2 0
+#endif
+#if RT_BVH_HAVE_SSE2 && defined(__x86_64__) && defined(__GNUC__) && !defined(RT_NO_AVX)
+#define RT_BVH_HAVE_AVX 1
+#else
+#define RT_BVH_HAVE_AVX 0
+#endif
+
+/* Closest hit with the fastest box test the CPU has (rt_bvh_uses_avx). */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 /* The same traversal with the baseline box test: SSE2 on x86-64 even where
  * AVX is present (what x86-64 CPUs without AVX run), else the portable one.
@@ -26,23 +39,14 @@ int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double t
  * without SSE2 (non-x86 nodes, RT_NO_SIMD) run. It finds the same hits;
  * --accel bvh-scalar renders with it, so any node can check that. */
 int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
-/* x86-64 builds with GCC or clang: the AVX traversal on its own, for code
- * compiled for AVX to inline (rt_render_rows); only where the CPU has AVX
- * (rt_bvh_box_test says "avx"). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(RT_NO_SIMD) && !defined(RT_NO_AVX)
-#define RT_BVH_HAVE_AVX 1
+/* 1 when rt_bvh_closest runs the AVX box test (the CPU has AVX), else 0. */
+int rt_bvh_uses_avx(const rt_bvh *b);
+#if RT_BVH_HAVE_AVX
+/* The AVX traversal on its own, for code compiled for AVX to inline
+ * (rt_render_rows); only when rt_bvh_uses_avx. */
 __attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
                                                       rt_hit *hit);
-#else
-#define RT_BVH_HAVE_AVX 0
 #endif
-/* The box test rt_bvh_closest runs on this CPU: "avx", "sse2" or "portable";
- * and the one rt_bvh_closest_sse runs: "sse2" or "portable". */
-const char *rt_bvh_box_test(const rt_bvh *b);
-/* 1 when rt_bvh_closest runs the AVX box test (then rt_bvh_closest_avx may
- * be called), else 0. */
-int rt_bvh_uses_avx(const rt_bvh *b);
-const char *rt_bvh_box_test_sse(void);
 /* The traversal of rt_bvh_closest, counting as it goes: nodes visited
  * (box tests of up to eight children) and spheres tested, added to *counts. For
  * benchmarks and tests; the two functions above count nothing. */

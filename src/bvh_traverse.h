@@ -1,8 +1,7 @@
 /* bvh_traverse.h - the closest-hit traversal of bvh.c, which includes it
- * once per instruction set: it defines TRAVERSE (the function's name,
- * declared with TRAVERSE_ATTR), with the AVX box test when TRAV_AVX is 1,
- * else the SSE2 one (when the build has SSE2) or the portable one, as the
- * argument `simd` says. Not a header to include anywhere else.
+ * once per instruction set: it defines TRAVERSE (the function's name), with
+ * the AVX box test when TRAV_AVX is 1, else the SSE2 one (when the build has
+ * SSE2) or the portable one, as the argument `simd` says. Not a header to include anywhere else.
  *
  * Ordered depth-first traversal: the nearest hit child is visited next
  * without touching the stack, the others are pushed far to near with their
@@ -11,8 +10,9 @@
  * (chosen once per ray by the direction's signs), so no min/max swap is
  * needed per box. */
 
-TRAVERSE_ATTR int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
-                           const int simd, rt_bvh_counts *counts)
+static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin,
+                                                           double tmax, rt_hit *hit, const int simd,
+                                                           rt_bvh_counts *counts)
 {
     if (!b->n_nodes) /* an empty scene: the tree keeps one sphere at least */
         return 0;
@@ -30,7 +30,7 @@ TRAVERSE_ATTR int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin, doub
     const __m256 ox = _mm256_set1_ps(fo[0]), oy = _mm256_set1_ps(fo[1]), oz = _mm256_set1_ps(fo[2]);
     const __m256 ix = _mm256_set1_ps(fi[0]), iy = _mm256_set1_ps(fi[1]), iz = _mm256_set1_ps(fi[2]);
     const __m256 vtmin = _mm256_set1_ps(tmin_f);
-#elif RT_BVH_SSE
+#elif RT_BVH_HAVE_SSE2
     const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
     const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
     const __m128 vtmin = _mm_set1_ps(tmin_f);
@@ -69,7 +69,7 @@ TRAVERSE_ATTR int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin, doub
                 _mm256_storeu_ps(tn, vn);
             }
 #else
-#if RT_BVH_SSE
+#if RT_BVH_HAVE_SSE2
             if (simd) {
                 mask = 0;
                 for (int h = 0; h < WIDTH; h += 4) {
@@ -124,10 +124,9 @@ TRAVERSE_ATTR int TRAVERSE(const rt_bvh *b, const rt_ray *ray, double tmin, doub
                 /* more: sort by entry distance, far first */
                 int32_t cc[WIDTH];
                 float ct[WIDTH];
-                int m = 0, k = c0;
+                int m = 0;
                 for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
-                    k = __builtin_ctz(left);
-                    int j = m++;
+                    int k = __builtin_ctz(left), j = m++;
                     while (j > 0 && ct[j - 1] < tn[k]) {
                         ct[j] = ct[j - 1];
                         cc[j] = cc[j - 1];
