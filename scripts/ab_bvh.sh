@@ -14,10 +14,22 @@ B=${1:-HEAD}
 [ $# -gt 0 ] && shift
 BUILD=${AB_BUILD_DIR:-$ROOT/build-ab}
 mkdir -p "$BUILD"
+# B's traversal template (src/bvh_traverse.h, which bvh.c includes) goes
+# beside B's bvh.c, where its #include finds it before src/'s.
 if [ -f "$B" ]; then
     cp "$B" "$BUILD/b_bvh.c.new"
+    T=$(dirname "$B")/bvh_traverse.h
+    if [ -f "$T" ]; then cp "$T" "$BUILD/bvh_traverse.h.new"; else : >"$BUILD/bvh_traverse.h.new"; fi
 else
     git -C "$ROOT" show "$B:src/bvh.c" >"$BUILD/b_bvh.c.new" || { echo "ab_bvh.sh: no src/bvh.c at '$B'" >&2; exit 2; }
+    git -C "$ROOT" show "$B:src/bvh_traverse.h" >"$BUILD/bvh_traverse.h.new" 2>/dev/null || : >"$BUILD/bvh_traverse.h.new"
+fi
+# Replace it only when it changed too; an empty one stands for none.
+if cmp -s "$BUILD/bvh_traverse.h.new" "$BUILD/bvh_traverse.h"; then
+    rm "$BUILD/bvh_traverse.h.new"
+else
+    mv "$BUILD/bvh_traverse.h.new" "$BUILD/bvh_traverse.h"
+    rm -f "$BUILD/b_bvh.c" # so make recompiles B
 fi
 # Replace B only when it changed, so make does not recompile it for nothing.
 if cmp -s "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"; then

@@ -482,6 +482,14 @@ static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, dou
     return test_spheres(b->prims + (v >> 4), (v & 15u) + 1, ray, a, tmin, closest, best, counts);
 }
 
+/* 1 when f's sign bit is set (f < 0 for the nonzero values of safe_inv). */
+static inline int sign_bit(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return (int)(u >> 31);
+}
+
 static inline float safe_inv(double d)
 {
     float f = (float)d;

@@ -22,8 +22,11 @@ static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
     const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
     /* Row of the near plane per axis in node.bmin/bmax, seen as float[6][WIDTH]. */
-    const int nx = fi[0] < 0 ? 3 : 0, ny = fi[1] < 0 ? 4 : 1, nz = fi[2] < 0 ? 5 : 2;
-    const int fx = nx < 3 ? 3 : 0, fy = ny < 3 ? 4 : 1, fz = nz < 3 ? 5 : 2;
+    /* From the sign bits, without branches: the signs of secondary rays are
+     * random, and a mispredicted branch costs more than the arithmetic. */
+    const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
+    const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz;
+    const int fx = 3 - nx, fy = 5 - ny, fz = 7 - nz;
     const float tmin_f = (float)tmin * 0.999f;
 #if TRAV_AVX
     (void)simd;

@@ -19,6 +19,7 @@
 
 int ab_bvh_build(rt_bvh **out, const rt_scene *s);
 int ab_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+void ab_bvh_free(rt_bvh *b);
 
 typedef int (*closest_fn)(const rt_bvh *, const rt_ray *, double, double, rt_hit *);
 
@@ -82,7 +83,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "ab_bvh: A and B disagree on %zu of %zu rays\n", bad, n);
     free(rays);
     rt_bvh_free(a);
-    rt_bvh_free(b);
+    ab_bvh_free(b);
     rt_accel_free(accel);
     rt_scene_free(&s);
     return bad != 0;
