@@ -4,9 +4,10 @@
 # the same binary and inputs, whatever else the machine is doing. Builds the
 # program in $PROFILE_BUILD_DIR (default build-profile/): release flags,
 # baseline x86-64 (no -march: valgrind 3.19 cannot decode AVX-512), -g, and
-# no LTO, so the intersector stays a function of its own, called once per
-# ray segment: rt_bvh_closest_avx where the render runs its AVX path loop
-# (our BVH on a CPU with AVX), else rt_accel_closest. Renders the final
+# no LTO, so the intersector stays a function of its own: where the render
+# runs its AVX path loop (our BVH on a CPU with AVX), rt_bvh_closest_packet_avx
+# for the camera rays (in packets) and rt_bvh_closest_avx for the bounces,
+# else rt_accel_closest, once per ray segment. Renders the final
 # scene at 150x100, 8 spp, 1 thread unless the options say otherwise (later
 # options win), e.g.
 #   scripts/profile.sh --accel brute --width 60 --height 40 -s 2
@@ -46,16 +47,30 @@ def calls(fn):
     m = re.search(r"((?:%s<.*\n)+)%s" % (LINE, own_line(fn)), text, re.M)
     return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", m.group(1))) if m else 0
 segs = stats["ray_segments"]
-# The AVX path loop calls the AVX traversal itself; every other one goes
-# through rt_accel_closest.
-fn = "rt_bvh_closest_avx" if re.search(own_line("rt_bvh_closest_avx"), text, re.M) else "rt_accel_closest"
-render, query, n = inclusive("rt_render_rows"), inclusive(fn), calls(fn)
-if n != segs:
-    sys.exit("profile.sh: %d calls of %s, %d ray segments: per-query counts would be wrong" % (n, fn, segs))
-print("profile.sh: callgrind, rt-mpi %s (intersector: %s)" % (opts, fn))
+# The AVX path loop calls the AVX traversal itself, for the bounces, and
+# the packet traversal for the camera rays (one per sample); every other
+# one goes through rt_accel_closest, once per segment.
+present = lambda fn: re.search(own_line(fn), text, re.M) is not None
+render = inclusive("rt_render_rows")
+if present("rt_bvh_closest_avx"):
+    single, packet = "rt_bvh_closest_avx", "rt_bvh_closest_packet_avx"
+    cam = stats["width"] * stats["height"] * stats["samples"]
+    if calls(single) + cam != segs or not present(packet):
+        sys.exit("profile.sh: %d calls of %s and %d camera rays, %d ray segments: per-query counts would be wrong"
+                 % (calls(single), single, cam, segs))
+    query, cam_query, name = inclusive(single) + inclusive(packet), inclusive(packet), single + " + " + packet
+else:
+    fn = "rt_accel_closest"
+    if calls(fn) != segs:
+        sys.exit("profile.sh: %d calls of %s, %d ray segments: per-query counts would be wrong" % (calls(fn), fn, segs))
+    query, cam_query, cam, name = inclusive(fn), None, 0, fn
+print("profile.sh: callgrind, rt-mpi %s (intersector: %s)" % (opts, name))
 print("  ray segments                          %12d" % segs)
 print("  instructions in the render            %12d" % render)
 print("  per segment                           %12.1f" % (render / segs))
 print("  in the intersector, per query         %12.1f" % (query / segs))
+if cam_query is not None:
+    print("    per camera ray (packets of 8)       %12.1f" % (cam_query / cam))
+    print("    per bounce ray (one at a time)      %12.1f" % ((query - cam_query) / (segs - cam)))
 print("  everything else, per segment          %12.1f" % ((render - query) / segs))
 PY

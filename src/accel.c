@@ -74,11 +74,7 @@ static int brute_closest(const rt_scene *s, const rt_ray *ray, double tmin, doub
     uint32_t best = UINT32_MAX;
     for (uint32_t i = 0; i < s->n_spheres; i++) {
         const rt_sphere *sp = &s->spheres[i];
-        double t;
-        if (rt_sphere_intersect(sp->center, sp->radius * sp->radius, ray, a, tmin, closest, &t)) {
-            closest = t;
-            best = i;
-        }
+        rt_sphere_closer(sp->center, sp->radius * sp->radius, i, ray, a, tmin, &closest, &best);
     }
     if (best == UINT32_MAX)
         return 0;

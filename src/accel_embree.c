@@ -32,7 +32,7 @@
  * often more than the renderer's t_min (0.001): Embree's t would put hit
  * points below surfaces (acne, light leaks) and differ from the BVH's and
  * brute force's. So Embree only nominates the sphere; t comes from
- * rt_sphere_intersect in double, bit-identical to what the other
+ * rt_sphere_root in double, bit-identical to what the other
  * intersectors compute for that sphere. When the two disagree, the double
  * test decides:
  *  - double misses the nominated sphere entirely in (tmin, tmax) (grazing
@@ -253,13 +253,9 @@ int rt_embree_closest(const void *p, const rt_scene *s, const rt_ray *ray, doubl
         if (prim == best || prim >= s->n_spheres)
             break; /* back at the kept candidate (its far root): done */
         const rt_sphere *sp = &s->spheres[prim];
-        double t;
-        if (rt_sphere_intersect(sp->center, sp->radius * sp->radius, ray, a, tmin, best_t, &t)) {
-            best = prim;
-            best_t = t;
-            if (not_later(t, tf))
-                break;
-        }
+        if (rt_sphere_closer(sp->center, sp->radius * sp->radius, prim, ray, a, tmin, &best_t, &best) &&
+            not_later(best_t, tf))
+            break;
         lo = nextafterf(tf, INFINITY);
     }
     if (best == UINT32_MAX)

@@ -11,7 +11,7 @@
 int rt_embree_build(void **out, const rt_scene *s);
 void rt_embree_free(void *e);
 /* Closest hit via rtcIntersect1; t is then recomputed in double with
- * rt_sphere_intersect on the sphere Embree found, so shading sees the same
+ * rt_sphere_root on the sphere Embree found, so shading sees the same
  * precision as with the other intersectors. */
 int rt_embree_closest(const void *e, const rt_scene *s, const rt_ray *ray, double tmin, double tmax,
                       rt_hit *hit);

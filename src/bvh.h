@@ -31,6 +31,11 @@ void rt_bvh_free(rt_bvh *b);
 
 /* Closest hit with the fastest box test the CPU has (rt_bvh_uses_avx). */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
+/* The closest hits of n <= 8 rays, into hits[k] for the rays whose bit is
+ * set in the returned mask: the same hits as rt_bvh_closest finds for each,
+ * from one traversal of them all together where the CPU has AVX
+ * (rt_bvh_closest_packet_avx), else one at a time. */
+int rt_bvh_closest_packet(const rt_bvh *b, const rt_ray *rays, int n, double tmin, double tmax, rt_hit *hits);
 /* The same traversal with the baseline box test: SSE2 on x86-64 even where
  * AVX is present (what x86-64 CPUs without AVX run), else the portable one.
  * It finds the same hits; --accel bvh-sse renders with it. */
@@ -46,6 +51,10 @@ int rt_bvh_uses_avx(const rt_bvh *b);
  * (rt_render_rows); only when rt_bvh_uses_avx. */
 __attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
                                                       rt_hit *hit);
+/* rt_bvh_closest_packet's AVX traversal, for code compiled for AVX
+ * (rt_render_rows' camera rays); only when rt_bvh_uses_avx. */
+__attribute__((target("avx"))) int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n,
+                                                             double tmin, double tmax, rt_hit *hits);
 #endif
 /* The traversal of rt_bvh_closest, counting as it goes: nodes visited
  * (box tests of up to eight children) and spheres tested, added to *counts. For

@@ -20,6 +20,8 @@ static inline int omp_thread(void)
 
 /* Shadow-acne bias of the book. */
 #define T_MIN 0.001
+/* Camera rays traced together (rt_bvh_closest_packet_avx takes up to 8). */
+#define PACKET 8
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p)
 {
@@ -33,20 +35,29 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
-/* One sample's path; when rays is not NULL, every ray traced is stored
- * there (rt_render_sample passes NULL, and the stores fold away). With avx,
- * the closest hits come from the BVH's AVX traversal (r->bvh_avx), and the
- * caller must be compiled for AVX. */
-static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, uint32_t x, uint32_t y,
-                                                                uint32_t sample, uint64_t *segments, rt_ray *rays,
-                                                                const int avx)
+/* The camera ray of one sample, drawn from the start of the sample's RNG
+ * stream, which *rng is left at for the rest of its path. */
+static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer *r, uint32_t x, uint32_t y,
+                                                               uint32_t sample, rt_rng *rng)
 {
     const uint32_t W = r->p.width, H = r->p.height;
-    rt_rng rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
+    *rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
     /* The seed renderer's mapping: v counts rows from the bottom. */
-    double u = ((double)x + rt_rng_double(&rng)) / (double)(W > 1 ? W - 1 : 1);
-    double v = ((double)(H - 1 - y) + rt_rng_double(&rng)) / (double)(H > 1 ? H - 1 : 1);
-    rt_ray ray = rt_camera_ray(&r->camera, u, v, &rng);
+    double u = ((double)x + rt_rng_double(rng)) / (double)(W > 1 ? W - 1 : 1);
+    double v = ((double)(H - 1 - y) + rt_rng_double(rng)) / (double)(H > 1 ? H - 1 : 1);
+    return rt_camera_ray(&r->camera, u, v, rng);
+}
+
+/* One sample's path from its camera ray; when rays is not NULL, every ray
+ * traced is stored there (rt_render_sample passes NULL, and the stores fold
+ * away). first >= 0 says the camera ray's closest hit is known already
+ * (first: found or not, *first_hit: the hit), from a packet. With avx, the
+ * closest hits come from the BVH's AVX traversal (r->bvh_avx), and the caller
+ * must be compiled for AVX. */
+static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
+                                                                uint64_t *segments, rt_ray *rays, const int avx,
+                                                                int first, const rt_hit *first_hit)
+{
     rt_vec3 throughput = rt_v3(1, 1, 1);
     const rt_scene *s = r->scene;
     uint64_t segs = 0;
@@ -55,13 +66,20 @@ static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_rendere
         if (rays)
             rays[segs] = ray;
         segs++;
+        int found;
+        if (first >= 0) {
+            found = first;
+            hit = *first_hit;
+            first = -1;
+        } else {
 #if RT_BVH_HAVE_AVX
-        int found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
+            found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
                         : rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
 #else
-        (void)avx;
-        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+            (void)avx;
+            found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
 #endif
+        }
         if (!found) {
             rt_vec3 ud = rt_v3_unit(ray.dir);
             double t = 0.5 * (ud.y + 1.0);
@@ -74,7 +92,7 @@ static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_rendere
         rt_surface_from_sphere(&rec, sp, &ray, hit.t);
         rt_vec3 att;
         rt_ray next;
-        if (!rt_material_scatter(&s->materials[sp->material], &ray, &rec, r->p.diffuse, &rng, &att, &next))
+        if (!rt_material_scatter(&s->materials[sp->material], &ray, &rec, r->p.diffuse, rng, &att, &next))
             break;
         throughput = rt_v3_mul(throughput, att);
         ray = next;
@@ -85,13 +103,17 @@ static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_rendere
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
-    return trace_path(r, x, y, sample, segments, NULL, 0);
+    rt_rng rng;
+    rt_ray ray = camera_ray(r, x, y, sample, &rng);
+    return trace_path(r, ray, &rng, segments, NULL, 0, -1, NULL);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
 {
     uint64_t segs = 0;
-    trace_path(r, x, y, sample, &segs, rays, 0);
+    rt_rng rng;
+    rt_ray ray = camera_ray(r, x, y, sample, &rng);
+    trace_path(r, ray, &rng, &segs, rays, 0, -1, NULL);
     return (uint32_t)segs;
 }
 
@@ -101,12 +123,37 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
 {
     int64_t sr = 0, sg = 0, sb = 0;
     uint64_t segs = 0;
-    for (uint32_t s = s0; s < s1; s++) {
-        rt_vec3 c = trace_path(r, x, y, s, &segs, NULL, avx);
-        sr += rt_render_fix(c.x);
-        sg += rt_render_fix(c.y);
-        sb += rt_render_fix(c.z);
-    }
+#if RT_BVH_HAVE_AVX
+    if (avx) {
+        /* The camera rays of up to PACKET samples at a time, traced
+         * together: they are nearly the same ray, so one traversal serves
+         * them all. Each finds the hit a traversal of its own finds
+         * (rt_sphere_closer), and each path goes on with its own RNG. */
+        for (uint32_t s = s0; s < s1; s += PACKET) {
+            const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET;
+            rt_ray cam[PACKET];
+            rt_rng rng[PACKET];
+            rt_hit hit[PACKET];
+            for (int k = 0; k < n; k++)
+                cam[k] = camera_ray(r, x, y, s + (uint32_t)k, &rng[k]);
+            const int found = rt_bvh_closest_packet_avx(r->bvh_avx, cam, n, T_MIN, INFINITY, hit);
+            for (int k = 0; k < n; k++) {
+                rt_vec3 c = trace_path(r, cam[k], &rng[k], &segs, NULL, 1, (found >> k) & 1, &hit[k]);
+                sr += rt_render_fix(c.x);
+                sg += rt_render_fix(c.y);
+                sb += rt_render_fix(c.z);
+            }
+        }
+    } else
+#endif
+        for (uint32_t s = s0; s < s1; s++) {
+            rt_rng rng;
+            rt_ray cam = camera_ray(r, x, y, s, &rng);
+            rt_vec3 c = trace_path(r, cam, &rng, &segs, NULL, avx, -1, NULL);
+            sr += rt_render_fix(c.x);
+            sg += rt_render_fix(c.y);
+            sb += rt_render_fix(c.z);
+        }
     sum[0] = sr;
     sum[1] = sg;
     sum[2] = sb;

@@ -26,11 +26,12 @@ static rt_vec3 rnd_dir(rt_rng *r)
 static long mismatches, rays, hits;
 static int scenes_outside; /* random scenes in which the tree leaves spheres out */
 
-/* One intersector's answer against brute force's: same t to the bit; a
- * different sphere only in an exact tie. */
+/* One intersector's answer against brute force's: the same sphere and the
+ * same t to the bit, even in an exact tie (the lower index wins it,
+ * rt_sphere_closer). */
 static void check_same(const char *name, int ha, rt_hit a, int hb, rt_hit b, const rt_ray *ray)
 {
-    if (ha == hb && (!ha || a.t == b.t))
+    if (ha == hb && (!ha || (a.t == b.t && a.prim == b.prim)))
         return;
     if (mismatches < 5)
         fprintf(stderr, "mismatch: %s %d prim %u t %.17g / brute %d prim %u t %.17g; ray o=(%g %g %g) d=(%g %g %g)\n",
@@ -59,8 +60,7 @@ static void compare(const rt_accel *const bvh[N_BOX_TESTS], const rt_accel *brut
         rt_hit a = {0, 0};
         int ha = rt_accel_closest(bvh[k], ray, tmin, INFINITY, &a);
         check_same(rt_accel_name(box_tests[k]), ha, a, hb, b, ray);
-        /* The box tests visit the same children in the same order, so even
-         * an exact tie between spheres goes the same way in all. */
+        /* And the box tests with each other, sphere and t. */
         if (k == 0) {
             first = a;
             hfirst = ha;
@@ -71,6 +71,23 @@ static void compare(const rt_accel *const bvh[N_BOX_TESTS], const rt_accel *brut
     rt_hit c = {0, 0};
     int hc = rt_bvh_closest_counted(rt_accel_bvh(bvh[0]), ray, tmin, INFINITY, &c, &counted);
     check_same("bvh-counted", hc, c, hb, b, ray);
+}
+
+/* Packets of rays through rt_bvh_closest_packet (the AVX packet traversal
+ * where the CPU has it), each ray's answer against brute force's. */
+static long packet_rays;
+
+static void compare_packet(const rt_bvh *b, const rt_accel *brute, const rt_ray *rays, int n, double tmin)
+{
+    rt_hit h[8];
+    int found = rt_bvh_closest_packet(b, rays, n, tmin, INFINITY, h);
+    CHECK_EQ_INT(found >> n, 0);
+    for (int k = 0; k < n; k++) {
+        rt_hit bh = {0, 0};
+        int hb = rt_accel_closest(brute, &rays[k], tmin, INFINITY, &bh);
+        check_same("packet", (found >> k) & 1, h[k], hb, bh, &rays[k]);
+        packet_rays++;
+    }
 }
 
 /* The counts on a scene whose tree is known: spheres at x = 0, 100 and 200
@@ -183,8 +200,8 @@ int main(void)
                     r = -r; /* hollow */
                 CHECK_EQ_INT(rt_scene_add_sphere(&s, c, r, 0), RT_OK);
                 /* In some scenes, clusters of twins: exact ties across
-                 * leaves with equal boxes, which the traversal order
-                 * decides, so the box tests must keep it the same. */
+                 * leaves with equal boxes, which the lower index must win
+                 * in whatever order a traversal or a packet meets them. */
                 if (scene_i % 3 == 2 && rt_rng_double(&rng) < 0.05)
                     for (int twin = 0; twin < 11; twin++)
                         CHECK_EQ_INT(rt_scene_add_sphere(&s, c, r, 0), RT_OK);
@@ -205,6 +222,7 @@ int main(void)
         for (uint32_t i = 0; i < s.n_spheres; i++)
             ext = fmax(ext, fabs(s.spheres[i].center.x) + fabs(s.spheres[i].radius));
         ext = fmin(ext, 60);
+        rt_ray batch[4];
         for (int k = 0; k < 4000; k++) {
             rt_ray ray;
             const rt_sphere *sp = &s.spheres[(uint32_t)(rt_rng_double(&rng) * s.n_spheres)];
@@ -236,7 +254,24 @@ int main(void)
                 break;
             }
             }
-            compare((const rt_accel *const *)all, brute, &ray, k % 8 < 4 ? 0.001 : 1e-9);
+            const double tmin = k % 8 < 4 ? 0.001 : 1e-9;
+            compare((const rt_accel *const *)all, brute, &ray, tmin);
+            /* Packets: of unrelated rays (the last four, of the same tmin;
+             * one to four of them), and of eight rays around this one, as
+             * a pixel's camera rays are. */
+            batch[k % 4] = ray;
+            if (k % 4 == 3)
+                compare_packet(rt_accel_bvh(bvh), brute, batch, 1 + (k / 4) % 4, tmin);
+            if (k % 4 == 0) {
+                rt_ray bundle[8];
+                double spread_o = ext * 1e-3 * rt_rng_double(&rng), spread_d = 0.05 * rt_rng_double(&rng);
+                for (int j = 0; j < 8; j++) {
+                    bundle[j].orig = rt_v3_add(ray.orig, rt_v3_scale(rt_v3_unit(rnd_dir(&rng)), spread_o));
+                    bundle[j].dir = rt_v3_add(ray.dir, rt_v3_scale(rnd_dir(&rng), spread_d));
+                }
+                bundle[k % 3] = ray;
+                compare_packet(rt_accel_bvh(bvh), brute, bundle, 8, tmin);
+            }
         }
         if (scene_i == 0) { /* the structure built on its own, without the front end */
             int nodes, leaves, depth;
@@ -263,11 +298,12 @@ int main(void)
     check_outside();
     printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests; "
            "random scenes with spheres outside the tree: %d; box tests bvh (%s), bvh-sse, bvh-scalar differ on %ld "
-           "rays\n",
+           "rays; %ld rays in packets (%s)\n",
            rays, hits, mismatches, counted.nodes, counted.spheres, scenes_outside, rt_accel_box_test(eb),
-           box_test_differ);
+           box_test_differ, packet_rays, rt_bvh_uses_avx(rt_accel_bvh(eb)) ? "avx packet traversal" : "one at a time");
     rt_accel_free(eb);
     CHECK_EQ_INT(box_test_differ, 0);
+    CHECK(packet_rays > rays);
     CHECK(scenes_outside > 0);
     CHECK(counted.nodes >= (uint64_t)rays); /* every scene has a root */
     CHECK_EQ_INT(mismatches, 0);

@@ -7,7 +7,19 @@
 static int hit(rt_vec3 c, double r, rt_vec3 o, rt_vec3 d, double tmin, double tmax, double *t)
 {
     rt_ray ray = {o, d};
-    return rt_sphere_intersect(c, r * r, &ray, rt_v3_len2(d), tmin, tmax, t);
+    return rt_sphere_root(c, r * r, &ray, rt_v3_len2(d), tmin, t) && *t < tmax;
+}
+
+/* rt_sphere_closer over spheres[order[0..n)]: the index of the hit. */
+static uint32_t closest_of(const rt_vec3 *centers, const int *order, int n, const rt_ray *ray, double *t)
+{
+    double closest = INFINITY;
+    uint32_t best = UINT32_MAX;
+    for (int i = 0; i < n; i++)
+        rt_sphere_closer(centers[order[i]], 1.0, (uint32_t)order[i], ray, rt_v3_len2(ray->dir), 0.001, &closest,
+                         &best);
+    *t = closest;
+    return best;
 }
 
 int main(void)
@@ -38,6 +50,30 @@ int main(void)
     /* The ground sphere of the final scene (radius 1000) at grazing height. */
     CHECK(hit(rt_v3(0, -1000, 0), 1000, rt_v3(13, 2, 3), rt_v3(-13, -2, -3), 0.001, INFINITY, &t));
     CHECK_NEAR(t, 1.0, 1e-6); /* touches the top of the ground at the origin */
+
+    /* The closest-hit rule: the nearest sphere, and of exact twins the lower
+     * index, in whatever order they are tested. Spheres 0 and 2 are twins at
+     * z = -5, sphere 1 is behind them, sphere 3 is beside the ray. */
+    {
+        const rt_vec3 centers[4] = {rt_v3(0, 0, -5), rt_v3(0, 0, -9), rt_v3(0, 0, -5), rt_v3(0, 5, -5)};
+        const int orders[4][4] = {{0, 1, 2, 3}, {3, 2, 1, 0}, {2, 0, 3, 1}, {1, 3, 2, 0}};
+        rt_ray ray = {rt_v3(0, 0, 0), rt_v3(0, 0, -1)};
+        for (int k = 0; k < 4; k++) {
+            double tk;
+            CHECK_EQ_INT(closest_of(centers, orders[k], 4, &ray, &tk), 0);
+            CHECK_NEAR(tk, 4, 1e-12);
+        }
+        const int no_twin[2] = {1, 2};
+        double tk;
+        CHECK_EQ_INT(closest_of(centers, no_twin, 2, &ray, &tk), 2); /* nearer than 1 */
+        const int far_only[2] = {3, 1};
+        CHECK_EQ_INT(closest_of(centers, far_only, 2, &ray, &tk), 1);
+        CHECK_NEAR(tk, 8, 1e-12);
+        double closest = 3.9;
+        uint32_t best = UINT32_MAX;
+        CHECK(!rt_sphere_closer(centers[0], 1.0, 0, &ray, 1.0, 0.001, &closest, &best)); /* beyond tmax */
+        CHECK_EQ_INT(best, UINT32_MAX);
+    }
 
     /* Normals face against the ray; hollow spheres flip outward. */
     rt_sphere solid = {c, 1.0, 0}, hollow = {c, -1.0, 0};
