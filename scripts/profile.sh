@@ -6,7 +6,7 @@
 # baseline x86-64 (no -march: valgrind 3.19 cannot decode AVX-512), -g, and
 # no LTO, so the intersector stays a function of its own: where the render
 # runs its AVX path loop (our BVH on a CPU with AVX), rt_bvh_closest_packet_avx
-# for the camera rays (in packets) and rt_bvh_closest_avx for the bounces,
+# for the rays it traces in packets and rt_bvh_closest_avx for the others,
 # else rt_accel_closest, once per ray segment. Renders the final
 # scene at 150x100, 8 spp, 1 thread unless the options say otherwise (later
 # options win), e.g.
@@ -54,23 +54,24 @@ present = lambda fn: re.search(own_line(fn), text, re.M) is not None
 render = inclusive("rt_render_rows")
 if present("rt_bvh_closest_avx"):
     single, packet = "rt_bvh_closest_avx", "rt_bvh_closest_packet_avx"
-    cam = stats["width"] * stats["height"] * stats["samples"]
-    if calls(single) + cam != segs or not present(packet):
-        sys.exit("profile.sh: %d calls of %s and %d camera rays, %d ray segments: per-query counts would be wrong"
-                 % (calls(single), single, cam, segs))
-    query, cam_query, name = inclusive(single) + inclusive(packet), inclusive(packet), single + " + " + packet
+    # every segment is one ray of a packet (2 to 8 rays) or one single query
+    in_packets, n_packets = segs - calls(single), calls(packet)
+    if not 2 * n_packets <= in_packets <= 8 * n_packets:
+        sys.exit("profile.sh: %d calls of %s and %d of %s for %d ray segments: per-query counts would be wrong"
+                 % (calls(single), single, n_packets, packet, segs))
+    query, packet_query, name = inclusive(single) + inclusive(packet), inclusive(packet), single + " + " + packet
 else:
     fn = "rt_accel_closest"
     if calls(fn) != segs:
         sys.exit("profile.sh: %d calls of %s, %d ray segments: per-query counts would be wrong" % (calls(fn), fn, segs))
-    query, cam_query, cam, name = inclusive(fn), None, 0, fn
+    query, packet_query, name = inclusive(fn), None, fn
 print("profile.sh: callgrind, rt-mpi %s (intersector: %s)" % (opts, name))
 print("  ray segments                          %12d" % segs)
 print("  instructions in the render            %12d" % render)
 print("  per segment                           %12.1f" % (render / segs))
 print("  in the intersector, per query         %12.1f" % (query / segs))
-if cam_query is not None:
-    print("    per camera ray (packets of 8)       %12.1f" % (cam_query / cam))
-    print("    per bounce ray (one at a time)      %12.1f" % ((query - cam_query) / (segs - cam)))
+if packet_query is not None:
+    print("    per ray in packets (%4.1f%% of them) %12.1f" % (100.0 * in_packets / segs, packet_query / in_packets))
+    print("    per ray one at a time               %12.1f" % ((query - packet_query) / (segs - in_packets)))
 print("  everything else, per segment          %12.1f" % ((render - query) / segs))
 PY

@@ -48,64 +48,60 @@ static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer
     return rt_camera_ray(&r->camera, u, v, rng);
 }
 
-/* One sample's path from its camera ray; when rays is not NULL, every ray
- * traced is stored there (rt_render_sample passes NULL, and the stores fold
- * away). first >= 0 says the camera ray's closest hit is known already
- * (first: found or not, *first_hit: the hit), from a packet. With avx, the
- * closest hits come from the BVH's AVX traversal (r->bvh_avx), and the caller
- * must be compiled for AVX. */
-static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
-                                                                uint64_t *segments, rt_ray *rays, const int avx,
-                                                                int first, const rt_hit *first_hit)
+/* One segment of a path, after its closest-hit query (found, *hit): a
+ * miss ends the path with the sky's light through *throughput, into *color;
+ * a hit scatters *ray on into the next segment and returns 1, unless the
+ * material absorbs it (the path ends dark, *color stays black). */
+static inline __attribute__((always_inline)) int path_step(const rt_renderer *r, rt_ray *ray, int found,
+                                                           const rt_hit *hit, rt_rng *rng, rt_vec3 *throughput,
+                                                           rt_vec3 *color)
 {
-    rt_vec3 throughput = rt_v3(1, 1, 1);
     const rt_scene *s = r->scene;
+    if (!found) {
+        rt_vec3 ud = rt_v3_unit(ray->dir);
+        double t = 0.5 * (ud.y + 1.0);
+        rt_vec3 sky = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
+        *color = rt_v3_mul(*throughput, sky);
+        return 0;
+    }
+    const rt_sphere *sp = &s->spheres[hit->prim];
+    rt_surface rec;
+    rt_surface_from_sphere(&rec, sp, ray, hit->t);
+    rt_vec3 att;
+    rt_ray next;
+    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->p.diffuse, rng, &att, &next))
+        return 0;
+    *throughput = rt_v3_mul(*throughput, att);
+    *ray = next;
+    return 1;
+}
+
+/* One sample's path from its camera ray, one segment after the other;
+ * when rays is not NULL, every ray traced is stored there (rt_render_sample
+ * passes NULL, and the stores fold away). */
+static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
+                                                                uint64_t *segments, rt_ray *rays)
+{
+    rt_vec3 throughput = rt_v3(1, 1, 1), color = rt_v3(0, 0, 0);
     uint64_t segs = 0;
     for (uint32_t depth = 0; depth < r->p.max_depth; depth++) {
         rt_hit hit;
         if (rays)
             rays[segs] = ray;
         segs++;
-        int found;
-        if (first >= 0) {
-            found = first;
-            hit = *first_hit;
-            first = -1;
-        } else {
-#if RT_BVH_HAVE_AVX
-            found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
-                        : rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
-#else
-            (void)avx;
-            found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
-#endif
-        }
-        if (!found) {
-            rt_vec3 ud = rt_v3_unit(ray.dir);
-            double t = 0.5 * (ud.y + 1.0);
-            rt_vec3 sky = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
-            *segments += segs;
-            return rt_v3_mul(throughput, sky);
-        }
-        const rt_sphere *sp = &s->spheres[hit.prim];
-        rt_surface rec;
-        rt_surface_from_sphere(&rec, sp, &ray, hit.t);
-        rt_vec3 att;
-        rt_ray next;
-        if (!rt_material_scatter(&s->materials[sp->material], &ray, &rec, r->p.diffuse, rng, &att, &next))
+        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+        if (!path_step(r, &ray, found, &hit, rng, &throughput, &color))
             break;
-        throughput = rt_v3_mul(throughput, att);
-        ray = next;
     }
     *segments += segs;
-    return rt_v3(0, 0, 0);
+    return color;
 }
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
     rt_rng rng;
     rt_ray ray = camera_ray(r, x, y, sample, &rng);
-    return trace_path(r, ray, &rng, segments, NULL, 0, -1, NULL);
+    return trace_path(r, ray, &rng, segments, NULL);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
@@ -113,7 +109,7 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     uint64_t segs = 0;
     rt_rng rng;
     rt_ray ray = camera_ray(r, x, y, sample, &rng);
-    trace_path(r, ray, &rng, &segs, rays, 0, -1, NULL);
+    trace_path(r, ray, &rng, &segs, rays);
     return (uint32_t)segs;
 }
 
@@ -125,31 +121,63 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     uint64_t segs = 0;
 #if RT_BVH_HAVE_AVX
     if (avx) {
-        /* The camera rays of up to PACKET samples at a time, traced
-         * together: they are nearly the same ray, so one traversal serves
-         * them all. Each finds the hit a traversal of its own finds
-         * (rt_sphere_closer), and each path goes on with its own RNG. */
+        /* PACKET samples at a time, their paths advanced a segment each
+         * in turn. The camera rays are nearly the same ray, and so, less
+         * so, are the next segments while all the paths live: those go to
+         * the BVH as one packet (one traversal for all, the rays in AVX
+         * lanes), the others one at a time, which measured faster
+         * (ab_render.sh: packets for every segment of two or more live
+         * paths 0.94, for all eight 1.05). Each ray gets the hit its own
+         * traversal would find (rt_sphere_closer's rule), and each path
+         * draws from its own RNG, so the pixels are the same bits as from
+         * trace_path. */
         for (uint32_t s = s0; s < s1; s += PACKET) {
             const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET;
-            rt_ray cam[PACKET];
+            rt_ray ray[PACKET], pk[PACKET];
             rt_rng rng[PACKET];
             rt_hit hit[PACKET];
-            for (int k = 0; k < n; k++)
-                cam[k] = camera_ray(r, x, y, s + (uint32_t)k, &rng[k]);
-            const int found = rt_bvh_closest_packet_avx(r->bvh_avx, cam, n, T_MIN, INFINITY, hit);
+            rt_vec3 thr[PACKET], col[PACKET];
+            int live[PACKET], nlive = n;
             for (int k = 0; k < n; k++) {
-                rt_vec3 c = trace_path(r, cam[k], &rng[k], &segs, NULL, 1, (found >> k) & 1, &hit[k]);
-                sr += rt_render_fix(c.x);
-                sg += rt_render_fix(c.y);
-                sb += rt_render_fix(c.z);
+                ray[k] = camera_ray(r, x, y, s + (uint32_t)k, &rng[k]);
+                thr[k] = rt_v3(1, 1, 1);
+                col[k] = rt_v3(0, 0, 0);
+                live[k] = k;
+            }
+            for (uint32_t depth = 0; depth < r->p.max_depth && nlive > 0; depth++) {
+                int found;
+                segs += (uint64_t)nlive;
+                if (nlive >= 2 && (depth == 0 || nlive == PACKET)) {
+                    for (int j = 0; j < nlive; j++)
+                        pk[j] = ray[live[j]];
+                    found = rt_bvh_closest_packet_avx(r->bvh_avx, pk, nlive, T_MIN, INFINITY, hit);
+                } else {
+                    found = 0;
+                    for (int j = 0; j < nlive; j++)
+                        found |= rt_bvh_closest_avx(r->bvh_avx, &ray[live[j]], T_MIN, INFINITY, &hit[j]) << j;
+                }
+                int m = 0;
+                for (int j = 0; j < nlive; j++) {
+                    const int k = live[j];
+                    if (path_step(r, &ray[k], (found >> j) & 1, &hit[j], &rng[k], &thr[k], &col[k]))
+                        live[m++] = k;
+                }
+                nlive = m;
+            }
+            for (int k = 0; k < n; k++) {
+                sr += rt_render_fix(col[k].x);
+                sg += rt_render_fix(col[k].y);
+                sb += rt_render_fix(col[k].z);
             }
         }
     } else
+#else
+    (void)avx;
 #endif
         for (uint32_t s = s0; s < s1; s++) {
             rt_rng rng;
             rt_ray cam = camera_ray(r, x, y, s, &rng);
-            rt_vec3 c = trace_path(r, cam, &rng, &segs, NULL, avx, -1, NULL);
+            rt_vec3 c = trace_path(r, cam, &rng, &segs, NULL);
             sr += rt_render_fix(c.x);
             sg += rt_render_fix(c.y);
             sb += rt_render_fix(c.z);
