@@ -76,25 +76,43 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
     return 1;
 }
 
+/* The segments of a path from depth0 on, one after the other: its ray, RNG
+ * and throughput so far; returns the light it brings. rays as for
+ * trace_path; with avx, the closest hits come from the BVH's AVX traversal
+ * (r->bvh_avx), and the caller must be compiled for AVX. */
+static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_renderer *r, rt_ray ray, rt_rng *rng,
+                                                                rt_vec3 throughput, uint32_t depth0,
+                                                                uint64_t *segments, rt_ray *rays, const int avx)
+{
+    rt_vec3 color = rt_v3(0, 0, 0);
+    uint64_t segs = 0;
+    for (uint32_t depth = depth0; depth < r->p.max_depth; depth++) {
+        rt_hit hit;
+        if (rays)
+            rays[segs] = ray;
+        segs++;
+#if RT_BVH_HAVE_AVX
+        int found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
+                        : rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+#else
+        (void)avx;
+        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
+#endif
+        if (!path_step(r, &ray, found, &hit, rng, &throughput, &color))
+            break;
+    }
+    *segments += segs;
+    return color;
+}
+
 /* One sample's path from its camera ray, one segment after the other;
  * when rays is not NULL, every ray traced is stored there (rt_render_sample
  * passes NULL, and the stores fold away). */
 static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
                                                                 uint64_t *segments, rt_ray *rays)
 {
-    rt_vec3 throughput = rt_v3(1, 1, 1), color = rt_v3(0, 0, 0);
-    uint64_t segs = 0;
-    for (uint32_t depth = 0; depth < r->p.max_depth; depth++) {
-        rt_hit hit;
-        if (rays)
-            rays[segs] = ray;
-        segs++;
-        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
-        if (!path_step(r, &ray, found, &hit, rng, &throughput, &color))
-            break;
-    }
-    *segments += segs;
-    return color;
+    rt_vec3 throughput = rt_v3(1, 1, 1);
+    return trace_rest(r, ray, rng, throughput, 0, segments, rays, 0);
 }
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
@@ -144,18 +162,12 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                 col[k] = rt_v3(0, 0, 0);
                 live[k] = k;
             }
-            for (uint32_t depth = 0; depth < r->p.max_depth && nlive > 0; depth++) {
-                int found;
+            uint32_t depth = 0;
+            for (; depth < r->p.max_depth && (nlive == PACKET || (depth == 0 && nlive >= 2)); depth++) {
+                for (int j = 0; j < nlive; j++)
+                    pk[j] = ray[live[j]];
+                const int found = rt_bvh_closest_packet_avx(r->bvh_avx, pk, nlive, T_MIN, INFINITY, hit);
                 segs += (uint64_t)nlive;
-                if (nlive >= 2 && (depth == 0 || nlive == PACKET)) {
-                    for (int j = 0; j < nlive; j++)
-                        pk[j] = ray[live[j]];
-                    found = rt_bvh_closest_packet_avx(r->bvh_avx, pk, nlive, T_MIN, INFINITY, hit);
-                } else {
-                    found = 0;
-                    for (int j = 0; j < nlive; j++)
-                        found |= rt_bvh_closest_avx(r->bvh_avx, &ray[live[j]], T_MIN, INFINITY, &hit[j]) << j;
-                }
                 int m = 0;
                 for (int j = 0; j < nlive; j++) {
                     const int k = live[j];
@@ -163,6 +175,14 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                         live[m++] = k;
                 }
                 nlive = m;
+            }
+            /* The paths still live go on one at a time, each to its end:
+             * consecutive segments of a path start where the last one
+             * ended, which keeps the traversal's memory and branch history
+             * warm better than taking the paths in turn. */
+            for (int j = 0; j < nlive; j++) {
+                const int k = live[j];
+                col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1);
             }
             for (int k = 0; k < n; k++) {
                 sr += rt_render_fix(col[k].x);

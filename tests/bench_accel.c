@@ -99,6 +99,91 @@ static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *
     return bad;
 }
 
+/* Our BVH on the rays grouped as the renderer's AVX path loop groups them:
+ * a pixel's samples eight at a time, whose camera rays, and whose later
+ * segments while all eight paths live, go to rt_bvh_closest_packet as one
+ * packet; then each path still live goes on to its end one ray at a time.
+ * Prints the time per ray of each
+ * part, and of all (against tb, the same rays one at a time in render
+ * order, and tf, brute force); returns the rays whose packet answer differs
+ * from their own query's (untimed). */
+static size_t time_packets(const rt_bvh *b, const rt_renderer *r, double tb, double tf)
+{
+    const uint32_t W = r->p.width, H = r->p.height, S = r->p.samples, D = r->p.max_depth;
+    size_t cap = (size_t)W * H * S * 4 + 64, np = 0, ns = 0, npk = 0;
+    rt_ray *pk = malloc(cap * sizeof *pk), *sg = malloc(cap * sizeof *sg), *paths = malloc(8 * D * sizeof *paths);
+    int *sizes = malloc(cap / 2 * sizeof *sizes);
+    if (!pk || !sg || !paths || !sizes) {
+        fprintf(stderr, "bench_accel: out of memory for the packets\n");
+        exit(1);
+    }
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++)
+            for (uint32_t s0 = 0; s0 < S; s0 += 8) {
+                const uint32_t n = S - s0 < 8 ? S - s0 : 8;
+                uint32_t len[8], all_live = D;
+                for (uint32_t k = 0; k < n; k++) {
+                    len[k] = rt_render_sample_rays(r, x, y, s0 + k, paths + k * D);
+                    all_live = len[k] < all_live ? len[k] : all_live;
+                }
+                /* packets while all the paths live (the camera rays in any case) */
+                const uint32_t pend = n == 8 ? all_live : n >= 2 ? 1 : 0;
+                if (np + ns + (size_t)n * D > cap) {
+                    fprintf(stderr, "bench_accel: too many rays\n");
+                    exit(1);
+                }
+                for (uint32_t d = 0; d < pend; d++) {
+                    for (uint32_t k = 0; k < n; k++)
+                        pk[np++] = paths[k * D + d];
+                    sizes[npk++] = (int)n;
+                }
+                /* then each live path to its end, one ray at a time */
+                for (uint32_t k = 0; k < n; k++)
+                    for (uint32_t d = pend; d < len[k]; d++)
+                        sg[ns++] = paths[k * D + d];
+            }
+    double best_p = 1e30, best_s = 1e30;
+    for (int round = 0; round < 3; round++) {
+        double sum = 0, t0 = rt_now();
+        rt_hit h[8];
+        for (size_t i = 0, at = 0; i < npk; at += (size_t)sizes[i++]) {
+            int f = rt_bvh_closest_packet(b, pk + at, sizes[i], 0.001, INFINITY, h);
+            sum += f ? h[__builtin_ctz((unsigned)f)].t : 0;
+        }
+        double t1 = rt_now();
+        for (size_t i = 0; i < ns; i++)
+            if (rt_bvh_closest(b, &sg[i], 0.001, INFINITY, h))
+                sum += h[0].t;
+        double t2 = rt_now();
+        best_p = fmin(best_p, (t1 - t0) * 1e9 / (double)np);
+        best_s = fmin(best_s, (t2 - t1) * 1e9 / (double)ns);
+        sink = sum;
+    }
+    size_t bad = 0;
+    for (size_t i = 0, at = 0; i < npk; at += (size_t)sizes[i++]) {
+        rt_hit h[8];
+        int f = rt_bvh_closest_packet(b, pk + at, sizes[i], 0.001, INFINITY, h);
+        for (int k = 0; k < sizes[i]; k++) {
+            rt_hit one = {0, 0};
+            int x1 = rt_bvh_closest(b, pk + at + k, 0.001, INFINITY, &one);
+            bad += bench_hits_differ((f >> k) & 1, &h[k], x1, &one);
+        }
+    }
+    double all = (best_p * (double)np + best_s * (double)ns) / (double)(np + ns);
+    printf("bvh on the rays grouped as the renderer groups them (%s):\n",
+           rt_bvh_uses_avx(b) ? "avx packets of up to 8 rays" : "no AVX: one at a time");
+    printf("  in packets  %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)np / (double)(np + ns), best_p);
+    printf("  one by one  %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)ns / (double)(np + ns), best_s);
+    printf("  all rays                   %6.1f ns/ray  (%.2fx the rays one at a time in render order)\n", all,
+           tb / all);
+    printf("  bvh / brute speed:   %.2f\n", tf / all);
+    free(pk);
+    free(sg);
+    free(paths);
+    free(sizes);
+    return bad;
+}
+
 int main(int argc, char **argv)
 {
     uint32_t W = argc > 1 ? (uint32_t)atoi(argv[1]) : 300, S = argc > 2 ? (uint32_t)atoi(argv[2]) : 8;
@@ -142,13 +227,16 @@ int main(int argc, char **argv)
     }
     printf("  bvh / brute speed:   %.2f\n", tf / tb);
     time_classes(bvh, &s, rays, n);
+    size_t bad_packets = time_packets(rt_accel_bvh(bvh), &r, tb, tf);
+    if (bad_packets)
+        fprintf(stderr, "bench_accel: packets and single queries disagree on %zu rays\n", bad_packets);
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
     if (bad)
         fprintf(stderr, "bench_accel: bvh and brute force disagree on %zu of the %zu rays compared\n", bad, checked);
     size_t bad_sse = disagreements(bvh, sse, rays, n, 1);
     if (bad_sse)
         fprintf(stderr, "bench_accel: bvh and bvh-sse disagree on %zu of the %zu rays\n", bad_sse, n);
-    bad += bad_sse;
+    bad += bad_sse + bad_packets;
     rt_accel_free(embree);
     rt_accel_free(brute);
     rt_accel_free(sse);

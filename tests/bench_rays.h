@@ -9,11 +9,11 @@
 #include "render.h"
 #include "status.h"
 
-/* Two exact intersectors' answers differ: a hit against a miss, or another
- * t (an exact tie between two spheres may name either). */
+/* Two exact intersectors' answers differ: a hit against a miss, another t
+ * or another sphere (rt_sphere_closer's rule settles exact ties). */
 static inline int bench_hits_differ(int ha, const rt_hit *a, int hb, const rt_hit *b)
 {
-    return ha != hb || (ha && a->t != b->t);
+    return ha != hb || (ha && (a->t != b->t || a->prim != b->prim));
 }
 
 /* *rays is malloc'd; RT_OK, or RT_ENOMEM (and nothing allocated). */
