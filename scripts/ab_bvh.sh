@@ -2,7 +2,7 @@
 # ab_bvh.sh [REV | FILE.c] [WIDTH [SAMPLES [ROUNDS]]]
 # Decide a BVH change by measurement: times the working tree's src/bvh.c
 # against src/bvh.c at git revision REV (default HEAD), or against FILE.c
-# (each with its own bvh_traverse.h, see below),
+# (each with its own bvh_traverse.h and sphere.h, see below),
 # on the same rays in one process, alternating rounds (tests/ab_bvh.c), and
 # fails if the two find different hits. CMake builds both into the target
 # ab_bvh with the release flags of the core (-O3, no -march, no FMA
@@ -15,26 +15,33 @@ B=${1:-HEAD}
 [ $# -gt 0 ] && shift
 BUILD=${AB_BUILD_DIR:-$ROOT/build-ab}
 mkdir -p "$BUILD"
-# B's traversal template (bvh_traverse.h, which bvh.c includes) goes beside
-# B's bvh.c, where its #include finds it before src/'s: REV's, or the one
-# beside FILE.c; the working tree's when there is none.
+# The headers of B's bvh.c that B may have changed (the traversal template
+# bvh_traverse.h, the sphere test sphere.h) go beside it, where its
+# #include finds them before src/'s: REV's, or the ones beside FILE.c; the
+# working tree's where there are none.
+HEADERS="bvh_traverse.h sphere.h"
 if [ -f "$B" ]; then
     cp "$B" "$BUILD/b_bvh.c.new"
-    T=$(dirname "$B")/bvh_traverse.h
-    [ -f "$T" ] || T=$ROOT/src/bvh_traverse.h
-    cp "$T" "$BUILD/bvh_traverse.h.new"
+    for h in $HEADERS; do
+        T=$(dirname "$B")/$h
+        [ -f "$T" ] || T=$ROOT/src/$h
+        cp "$T" "$BUILD/$h.new"
+    done
 else
     git -C "$ROOT" show "$B:src/bvh.c" >"$BUILD/b_bvh.c.new" || { echo "ab_bvh.sh: no src/bvh.c at '$B'" >&2; exit 2; }
-    git -C "$ROOT" show "$B:src/bvh_traverse.h" >"$BUILD/bvh_traverse.h.new" 2>/dev/null ||
-        cp "$ROOT/src/bvh_traverse.h" "$BUILD/bvh_traverse.h.new"
+    for h in $HEADERS; do
+        git -C "$ROOT" show "$B:src/$h" >"$BUILD/$h.new" 2>/dev/null || cp "$ROOT/src/$h" "$BUILD/$h.new"
+    done
 fi
-# Replace it only when it changed too.
-if cmp -s "$BUILD/bvh_traverse.h.new" "$BUILD/bvh_traverse.h"; then
-    rm "$BUILD/bvh_traverse.h.new"
-else
-    mv "$BUILD/bvh_traverse.h.new" "$BUILD/bvh_traverse.h"
-    rm -f "$BUILD/b_bvh.c" # so make recompiles B
-fi
+# Replace them only when they changed, and then recompile B.
+for h in $HEADERS; do
+    if cmp -s "$BUILD/$h.new" "$BUILD/$h"; then
+        rm "$BUILD/$h.new"
+    else
+        mv "$BUILD/$h.new" "$BUILD/$h"
+        rm -f "$BUILD/b_bvh.c"
+    fi
+done
 # Replace B only when it changed, so make does not recompile it for nothing.
 if cmp -s "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"; then
     rm "$BUILD/b_bvh.c.new"
