@@ -59,8 +59,14 @@ if [ -n "$MPIRUN" ]; then
     # A worker killed with -9: the job ends within seconds. No periodic
     # checkpoint is due (interval 1 h), so a checkpoint can only come from
     # rank 0 saving on the SIGTERM mpirun sends it; the resume is identical.
+    # A job four times as long as A, so it still runs when the kill comes
+    # (A takes about 1.5 s here under mpirun: a faster renderer once
+    # finished it first).
+    K=(--width 160 --height 96 -s 4000 -q)
+    "$BIN" "${K[@]}" -j 2 -o "$WORK/ref4.png" >/dev/null
+    check_eq "reference render (kill -9 job)" $? 0
     out="$WORK/kill9.png"
-    "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${A[@]}" -j 1 -o "$out" --checkpoint-interval 3600 \
+    "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${K[@]}" -j 1 -o "$out" --checkpoint-interval 3600 \
         >/dev/null 2>"$WORK/kill9.err" &
     pid=$!
     victim=""
@@ -81,8 +87,8 @@ if [ -n "$MPIRUN" ]; then
             fail "kill -9: status $status after ${took}s"
         [ -s "$out.ckpt" ] && pass "kill -9: rank 0 saved a checkpoint on mpirun's SIGTERM" ||
             fail "kill -9: no checkpoint: $(grep -m1 rt-mpi "$WORK/kill9.err")"
-        "$BIN" "${A[@]}" -j 2 -o "$out" --resume >"$WORK/kill9.out" 2>&1
-        grep -q "of the samples restored" "$WORK/kill9.out" && cmp -s "$out" "$WORK/ref.png" &&
+        "$BIN" "${K[@]}" -j 2 -o "$out" --resume >"$WORK/kill9.out" 2>&1
+        grep -q "of the samples restored" "$WORK/kill9.out" && cmp -s "$out" "$WORK/ref4.png" &&
             pass "kill -9: resume restored work and the image is identical" || fail "kill -9: resume: $(head -c 300 "$WORK/kill9.out")"
     else
         fail "kill -9: rank 1 not found"
