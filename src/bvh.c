@@ -530,7 +530,10 @@ int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double t
 
 /* ---- packets of up to eight rays (AVX) ------------------------------------ */
 
-/* Ray data of a packet, one ray per lane. */
+/* Ray data of a packet, one ray per lane: origin, direction, |dir|^2,
+ * tmin |dir|^2, and the closest hit so far, its t and its sphere's index (a
+ * double, exact for any index; UINT32_MAX for none), as test_spheres keeps
+ * them for one ray. */
 typedef struct packet {
     double ox[8], oy[8], oz[8], dx[8], dy[8], dz[8], a[8], lo[8];
     double closest[8], best[8];
@@ -580,6 +583,8 @@ static inline __attribute__((always_inline)) void sphere_x4(packet *P, int h, co
     _mm256_store_pd(P->best + h, _mm256_blendv_pd(bst, idx, take));
 }
 
+/* The spheres p[0, count) against the packet's rays whose bit is set in act,
+ * four lanes at a time. */
 static inline __attribute__((always_inline)) void spheres_x8(packet *P, const prim *p, uint32_t count, int act)
 {
     for (uint32_t i = 0; i < count; i++) {
@@ -590,6 +595,8 @@ static inline __attribute__((always_inline)) void spheres_x8(packet *P, const pr
     }
 }
 
+/* The far bound of the box tests per ray, from the closest hit so far: the
+ * single-ray traversal's tfar_f, eight at a time. */
 static inline __attribute__((always_inline)) __m256 packet_tfar(const packet *P)
 {
     __m256 f = _mm256_setr_m128(_mm256_cvtpd_ps(_mm256_load_pd(P->closest)),
@@ -597,9 +604,19 @@ static inline __attribute__((always_inline)) __m256 packet_tfar(const packet *P)
     return _mm256_mul_ps(f, _mm256_set1_ps(1.0001f));
 }
 
+/* The packet traversal: one walk down the tree for all the rays, each node's
+ * children tested one at a time against the eight rays (the near and far
+ * planes per ray from min and max, as signs may differ between rays). A
+ * child goes on with the rays that enter its box (its mask); the nearest
+ * child by the entry of its first such ray is visited next, the others are
+ * pushed far to near with their mask and the rays' entry distances, and a
+ * popped entry keeps only the rays whose entry is not beyond their closest
+ * hit by then. Leaves test their spheres against the rays of the mask, in
+ * double, with the same rule as one ray's traversal: each ray ends with the
+ * hit its own traversal finds, whatever rays share its packet. */
 int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n, double tmin, double tmax, rt_hit *hits)
 {
-    if (n <= 0 || !b->n_nodes)
+    if (n <= 0 || n > 8 || !b->n_nodes)
         return 0;
     _Alignas(32) packet P;
     _Alignas(32) float fo[3][8], fi[3][8];

@@ -31,7 +31,7 @@ void rt_bvh_free(rt_bvh *b);
 
 /* Closest hit with the fastest box test the CPU has (rt_bvh_uses_avx). */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
-/* The closest hits of n <= 8 rays, into hits[k] for the rays whose bit is
+/* The closest hits of n rays (1 <= n <= 8), into hits[k] for the rays whose bit is
  * set in the returned mask: the same hits as rt_bvh_closest finds for each,
  * from one traversal of them all together where the CPU has AVX
  * (rt_bvh_closest_packet_avx), else one at a time. */
