@@ -150,38 +150,32 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
          * draws from its own RNG, so the pixels are the same bits as from
          * trace_path. */
         for (uint32_t s = s0; s < s1; s += PACKET) {
-            const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET;
-            rt_ray ray[PACKET], pk[PACKET];
+            const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET, all = (1 << n) - 1;
+            rt_ray ray[PACKET];
             rt_rng rng[PACKET];
             rt_hit hit[PACKET];
             rt_vec3 thr[PACKET], col[PACKET];
-            int live[PACKET], nlive = n;
             for (int k = 0; k < n; k++) {
                 ray[k] = camera_ray(r, x, y, s + (uint32_t)k, &rng[k]);
                 thr[k] = rt_v3(1, 1, 1);
                 col[k] = rt_v3(0, 0, 0);
-                live[k] = k;
             }
+            /* Packets while no path has ended, so ray[0, n) is the packet. */
+            int live = all;
             uint32_t depth = 0;
-            for (; depth < r->p.max_depth && (nlive == PACKET || (depth == 0 && nlive >= 2)); depth++) {
-                for (int j = 0; j < nlive; j++)
-                    pk[j] = ray[live[j]];
-                const int found = rt_bvh_closest_packet_avx(r->bvh_avx, pk, nlive, T_MIN, INFINITY, hit);
-                segs += (uint64_t)nlive;
-                int m = 0;
-                for (int j = 0; j < nlive; j++) {
-                    const int k = live[j];
-                    if (path_step(r, &ray[k], (found >> j) & 1, &hit[j], &rng[k], &thr[k], &col[k]))
-                        live[m++] = k;
-                }
-                nlive = m;
+            for (; depth < r->p.max_depth && ((n == PACKET && live == all) || (depth == 0 && n >= 2)); depth++) {
+                const int found = rt_bvh_closest_packet_avx(r->bvh_avx, ray, n, T_MIN, INFINITY, hit);
+                segs += (uint64_t)n;
+                for (int k = 0; k < n; k++)
+                    if (!path_step(r, &ray[k], (found >> k) & 1, &hit[k], &rng[k], &thr[k], &col[k]))
+                        live &= ~(1 << k);
             }
             /* The paths still live go on one at a time, each to its end:
              * consecutive segments of a path start where the last one
              * ended, which keeps the traversal's memory and branch history
              * warm better than taking the paths in turn. */
-            for (int j = 0; j < nlive; j++) {
-                const int k = live[j];
+            for (; live; live &= live - 1) {
+                const int k = __builtin_ctz((unsigned)live);
                 col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1);
             }
             for (int k = 0; k < n; k++) {
