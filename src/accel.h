@@ -30,8 +30,9 @@ typedef struct rt_accel rt_accel;
 int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind);
 void rt_accel_free(rt_accel *a);
 
-/* Closest sphere hit with tmin < t < tmax; returns 1 on a hit. Safe to call
- * from many threads at once. */
+/* Closest sphere hit with tmin < t <= tmax (rt_sphere_closer's rule: the
+ * least t, of equal ones the lowest sphere index); returns 1 on a hit. Safe
+ * to call from many threads at once. */
 int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 
 /* "bvh", "brute", "embree", "bvh-scalar", "bvh-sse"; and parsing back (-1

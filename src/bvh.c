@@ -475,12 +475,6 @@ static inline int test_spheres(const prim *p, uint32_t count, const rt_ray *ray,
     return any;
 }
 
-static inline int leaf_hit(const rt_bvh *b, int32_t code, const rt_ray *ray, double a, double tmin,
-                           double *closest, uint32_t *best, rt_bvh_counts *counts)
-{
-    uint32_t v = ~(uint32_t)code;
-    return test_spheres(b->prims + (v >> 4), (v & 15u) + 1, ray, a, tmin, closest, best, counts);
-}
 
 /* 1 when f's sign bit is set (f < 0 for the nonzero values of safe_inv). */
 static inline int sign_bit(float f)
@@ -488,6 +482,22 @@ static inline int sign_bit(float f)
     uint32_t u;
     memcpy(&u, &f, sizeof u);
     return (int)(u >> 31);
+}
+
+/* The float bounds of the box tests around the double interval (tmin,
+ * closest): a little wider, so that a box the exact interval enters is never
+ * culled by float rounding. INFINITY stays INFINITY. */
+#define TMIN_SHRINK 0.999f
+#define TFAR_GROW 1.0001f
+static inline float near_bound(double tmin) { return (float)tmin * TMIN_SHRINK; }
+static inline float far_bound(double closest) { return (float)closest * TFAR_GROW; }
+
+/* A leaf's spheres: the child code's start and count. */
+static inline const prim *leaf_prims(const rt_bvh *b, int32_t code, uint32_t *count)
+{
+    uint32_t v = ~(uint32_t)code;
+    *count = (v & 15u) + 1;
+    return b->prims + (v >> 4);
 }
 
 static inline float safe_inv(double d)
@@ -595,13 +605,12 @@ static inline __attribute__((always_inline)) void spheres_x8(packet *P, const pr
     }
 }
 
-/* The far bound of the box tests per ray, from the closest hit so far: the
- * single-ray traversal's tfar_f, eight at a time. */
+/* far_bound of the eight rays' closest hits so far. */
 static inline __attribute__((always_inline)) __m256 packet_tfar(const packet *P)
 {
     __m256 f = _mm256_setr_m128(_mm256_cvtpd_ps(_mm256_load_pd(P->closest)),
                                 _mm256_cvtpd_ps(_mm256_load_pd(P->closest + 4)));
-    return _mm256_mul_ps(f, _mm256_set1_ps(1.0001f));
+    return _mm256_mul_ps(f, _mm256_set1_ps(TFAR_GROW));
 }
 
 /* The packet traversal: one walk down the tree for all the rays, each node's
@@ -642,7 +651,7 @@ int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n, double
     const int all = (1 << n) - 1;
     const __m256 ox = _mm256_load_ps(fo[0]), oy = _mm256_load_ps(fo[1]), oz = _mm256_load_ps(fo[2]);
     const __m256 ix = _mm256_load_ps(fi[0]), iy = _mm256_load_ps(fi[1]), iz = _mm256_load_ps(fi[2]);
-    const __m256 vtmin = _mm256_set1_ps((float)tmin * 0.999f);
+    const __m256 vtmin = _mm256_set1_ps(near_bound(tmin));
     spheres_x8(&P, b->outside, (uint32_t)b->n_outside, all);
     __m256 tfar = packet_tfar(&P);
     int32_t stack_node[STACK_MAX];
@@ -653,8 +662,9 @@ int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n, double
     int act = all;
     for (;;) {
         if (code < 0) {
-            uint32_t v = ~(uint32_t)code;
-            spheres_x8(&P, b->prims + (v >> 4), (v & 15u) + 1, act);
+            uint32_t count;
+            const prim *p = leaf_prims(b, code, &count);
+            spheres_x8(&P, p, count, act);
             tfar = packet_tfar(&P);
         } else {
             const node *nd = &b->nodes[code];
@@ -682,28 +692,24 @@ int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n, double
                 }
             }
             if (nk) {
-                /* push all but the nearest (by its first ray's entry), far first */
-                int near_i = 0;
-                for (int i = 1; i < nk; i++)
-                    if (key[i] < key[near_i])
-                        near_i = i;
-                /* push the others in decreasing key order */
-                int order[WIDTH], no = 0;
-                for (int i = 0; i < nk; i++)
-                    if (i != near_i) {
-                        int j = no++;
-                        while (j > 0 && key[order[j - 1]] < key[i]) {
-                            order[j] = order[j - 1];
-                            j--;
-                        }
-                        order[j] = i;
+                /* by the entry of each child's first ray, far to near: the
+                 * nearest is visited next, the others pushed */
+                int order[WIDTH];
+                for (int i = 0; i < nk; i++) {
+                    int j = i;
+                    while (j > 0 && key[order[j - 1]] < key[i]) {
+                        order[j] = order[j - 1];
+                        j--;
                     }
-                for (int q = 0; q < no; q++) {
+                    order[j] = i;
+                }
+                for (int q = 0; q < nk - 1; q++) {
                     int i = order[q];
                     stack_node[sp] = kid[i];
                     stack_mask[sp] = kmask[i];
                     _mm256_store_ps(stack_t[sp++], _mm256_load_ps(tn[i]));
                 }
+                const int near_i = order[nk - 1];
                 code = kid[near_i];
                 act = kmask[near_i];
                 continue;

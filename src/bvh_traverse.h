@@ -27,7 +27,7 @@ static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const
     const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
     const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz;
     const int fx = 3 - nx, fy = 5 - ny, fz = 7 - nz;
-    const float tmin_f = (float)tmin * 0.999f;
+    const float tmin_f = near_bound(tmin);
 #if TRAV_AVX
     (void)simd;
     const __m256 ox = _mm256_set1_ps(fo[0]), oy = _mm256_set1_ps(fo[1]), oz = _mm256_set1_ps(fo[2]);
@@ -42,15 +42,17 @@ static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const
 #endif
     /* The spheres outside the tree first: a hit on one bounds the traversal. */
     test_spheres(b->outside, (uint32_t)b->n_outside, ray, a, tmin, &closest, &best, counts);
-    float tfar_f = closest == INFINITY ? INFINITY : (float)closest * 1.0001f;
+    float tfar_f = far_bound(closest);
     int32_t stack_node[STACK_MAX];
     float stack_t[STACK_MAX];
     int sp = 0;
     int32_t code = 0;
     for (;;) {
         if (code < 0) {
-            if (leaf_hit(b, code, ray, a, tmin, &closest, &best, counts))
-                tfar_f = (float)closest * 1.0001f;
+            uint32_t count;
+            const prim *p = leaf_prims(b, code, &count);
+            if (test_spheres(p, count, ray, a, tmin, &closest, &best, counts))
+                tfar_f = far_bound(closest);
         } else {
             const node *n = &b->nodes[code];
             if (counts)

@@ -20,7 +20,8 @@ static inline int omp_thread(void)
 
 /* Shadow-acne bias of the book. */
 #define T_MIN 0.001
-/* Camera rays traced together (rt_bvh_closest_packet_avx takes up to 8). */
+/* Samples whose paths go through the BVH together (rt_bvh_closest_packet_avx
+ * takes up to 8 rays). */
 #define PACKET 8
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p)
@@ -131,11 +132,19 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     return (uint32_t)segs;
 }
 
+/* Adds a sample's light to a pixel's fixed-point sums. */
+static inline void add_fixed(int64_t sum[3], rt_vec3 c)
+{
+    sum[0] += rt_render_fix(c.x);
+    sum[1] += rt_render_fix(c.y);
+    sum[2] += rt_render_fix(c.z);
+}
+
 /* The samples s0..s1-1 of pixel (x, y), summed in fixed point into sum. */
 static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
                                                             uint32_t s1, int64_t sum[3], const int avx)
 {
-    int64_t sr = 0, sg = 0, sb = 0;
+    int64_t acc[3] = {0, 0, 0}; /* a local, kept in registers */
     uint64_t segs = 0;
 #if RT_BVH_HAVE_AVX
     if (avx) {
@@ -178,11 +187,8 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                 const int k = __builtin_ctz((unsigned)live);
                 col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1);
             }
-            for (int k = 0; k < n; k++) {
-                sr += rt_render_fix(col[k].x);
-                sg += rt_render_fix(col[k].y);
-                sb += rt_render_fix(col[k].z);
-            }
+            for (int k = 0; k < n; k++)
+                add_fixed(acc, col[k]);
         }
     } else
 #else
@@ -191,14 +197,11 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
         for (uint32_t s = s0; s < s1; s++) {
             rt_rng rng;
             rt_ray cam = camera_ray(r, x, y, s, &rng);
-            rt_vec3 c = trace_path(r, cam, &rng, &segs, NULL);
-            sr += rt_render_fix(c.x);
-            sg += rt_render_fix(c.y);
-            sb += rt_render_fix(c.z);
+            add_fixed(acc, trace_path(r, cam, &rng, &segs, NULL));
         }
-    sum[0] = sr;
-    sum[1] = sg;
-    sum[2] = sb;
+    sum[0] = acc[0];
+    sum[1] = acc[1];
+    sum[2] = acc[2];
     return segs;
 }
 
