@@ -33,21 +33,20 @@ else
         git -C "$ROOT" show "$B:src/$h" >"$BUILD/$h.new" 2>/dev/null || cp "$ROOT/src/$h" "$BUILD/$h.new"
     done
 fi
-# Replace them only when they changed, and then recompile B.
-for h in $HEADERS; do
-    if cmp -s "$BUILD/$h.new" "$BUILD/$h"; then
-        rm "$BUILD/$h.new"
-    else
-        mv "$BUILD/$h.new" "$BUILD/$h"
-        rm -f "$BUILD/b_bvh.c"
+# Each file replaces the build's copy only when it changed, so make does
+# not recompile B for nothing; a changed header gives B a fresh copy too, so
+# it is recompiled even when make did not yet know it depends on the header.
+replace_if_changed() { # file: install file.new as file; status 0 when it changed
+    if cmp -s "$1.new" "$1"; then
+        rm "$1.new"
+        return 1
     fi
+    mv "$1.new" "$1"
+}
+for h in $HEADERS; do
+    replace_if_changed "$BUILD/$h" && rm -f "$BUILD/b_bvh.c"
 done
-# Replace B only when it changed, so make does not recompile it for nothing.
-if cmp -s "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"; then
-    rm "$BUILD/b_bvh.c.new"
-else
-    mv "$BUILD/b_bvh.c.new" "$BUILD/b_bvh.c"
-fi
+replace_if_changed "$BUILD/b_bvh.c" || true
 RT_BUILD_TARGET=ab_bvh "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF -DRT_MPI=OFF -DBUILD_TESTING=OFF \
     -DRT_AB_BVH_B="$BUILD/b_bvh.c" >/dev/null 2>"$BUILD/build.log" || { cat "$BUILD/build.log" >&2; exit 2; }
 echo "B = ${B}"

@@ -58,7 +58,7 @@ int main(int argc, char **argv)
     }
     rt_ray *rays;
     size_t n;
-    if (bench_capture_rays(&r, &rays, &n)) {
+    if (bench_capture_rays(&r, &rays, &n, NULL)) {
         fprintf(stderr, "ab_bvh: out of memory\n");
         return 1;
     }

@@ -99,49 +99,47 @@ static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *
     return bad;
 }
 
-/* Our BVH on the rays grouped as the renderer's AVX path loop groups them:
- * a pixel's samples eight at a time, whose camera rays, and whose later
+/* Our BVH on the rays captured (rays[0, n), the paths' lengths in lens)
+ * grouped as the renderer's AVX path loop groups them (render.c, pixel): a
+ * pixel's samples eight at a time, whose camera rays, and whose later
  * segments while all eight paths live, go to rt_bvh_closest_packet as one
  * packet; then each path still live goes on to its end one ray at a time.
- * Prints the time per ray of each
- * part, and of all (against tb, the same rays one at a time in render
- * order, and tf, brute force); returns the rays whose packet answer differs
- * from their own query's (untimed). */
-static size_t time_packets(const rt_bvh *b, const rt_renderer *r, double tb, double tf)
+ * Prints the time per ray of each part, and of all (against tb, the same
+ * rays one at a time in render order, and tf, brute force); returns the rays
+ * whose packet answer differs from their own query's (untimed). */
+static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_ray *rays, size_t n,
+                           const uint32_t *lens, double tb, double tf)
 {
-    const uint32_t W = r->p.width, H = r->p.height, S = r->p.samples, D = r->p.max_depth;
-    size_t cap = (size_t)W * H * S * 4 + 64, np = 0, ns = 0, npk = 0;
-    rt_ray *pk = malloc(cap * sizeof *pk), *sg = malloc(cap * sizeof *sg), *paths = malloc(8 * D * sizeof *paths);
-    int *sizes = malloc(cap / 2 * sizeof *sizes);
-    if (!pk || !sg || !paths || !sizes) {
+    const uint32_t S = p->samples;
+    size_t np = 0, ns = 0, npk = 0, at = 0, path = 0;
+    rt_ray *pk = malloc(n * sizeof *pk), *sg = malloc(n * sizeof *sg);
+    int *sizes = malloc(n * sizeof *sizes);
+    if (!pk || !sg || !sizes) {
         fprintf(stderr, "bench_accel: out of memory for the packets\n");
         exit(1);
     }
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++)
-            for (uint32_t s0 = 0; s0 < S; s0 += 8) {
-                const uint32_t n = S - s0 < 8 ? S - s0 : 8;
-                uint32_t len[8], all_live = D;
-                for (uint32_t k = 0; k < n; k++) {
-                    len[k] = rt_render_sample_rays(r, x, y, s0 + k, paths + k * D);
-                    all_live = len[k] < all_live ? len[k] : all_live;
-                }
-                /* packets while all the paths live (the camera rays in any case) */
-                const uint32_t pend = n == 8 ? all_live : n >= 2 ? 1 : 0;
-                if (np + ns + (size_t)n * D > cap) {
-                    fprintf(stderr, "bench_accel: too many rays\n");
-                    exit(1);
-                }
-                for (uint32_t d = 0; d < pend; d++) {
-                    for (uint32_t k = 0; k < n; k++)
-                        pk[np++] = paths[k * D + d];
-                    sizes[npk++] = (int)n;
-                }
-                /* then each live path to its end, one ray at a time */
-                for (uint32_t k = 0; k < n; k++)
-                    for (uint32_t d = pend; d < len[k]; d++)
-                        sg[ns++] = paths[k * D + d];
+    for (size_t pixel = 0; pixel < (size_t)p->width * p->height; pixel++)
+        for (uint32_t s0 = 0; s0 < S; s0 += 8) {
+            const uint32_t g = S - s0 < 8 ? S - s0 : 8;
+            const rt_ray *first[8];
+            uint32_t all_live = p->max_depth;
+            for (uint32_t k = 0; k < g; k++, path++) {
+                first[k] = rays + at;
+                at += lens[path];
+                all_live = lens[path] < all_live ? lens[path] : all_live;
             }
+            /* packets while all the paths live (the camera rays in any case) */
+            const uint32_t pend = g == 8 ? all_live : g >= 2 ? 1 : 0;
+            for (uint32_t d = 0; d < pend; d++) {
+                for (uint32_t k = 0; k < g; k++)
+                    pk[np++] = first[k][d];
+                sizes[npk++] = (int)g;
+            }
+            /* then each live path to its end, one ray at a time */
+            for (uint32_t k = 0; k < g; k++)
+                for (uint32_t d = pend; d < lens[path - g + k]; d++)
+                    sg[ns++] = first[k][d];
+        }
     double best_p = 1e30, best_s = 1e30;
     for (int round = 0; round < 3; round++) {
         double sum = 0, t0 = rt_now();
@@ -179,7 +177,6 @@ static size_t time_packets(const rt_bvh *b, const rt_renderer *r, double tb, dou
     printf("  bvh / brute speed:   %.2f\n", tf / all);
     free(pk);
     free(sg);
-    free(paths);
     free(sizes);
     return bad;
 }
@@ -204,12 +201,13 @@ int main(int argc, char **argv)
     rt_render_params p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN};
     rt_renderer r;
     rt_ray *rays;
+    uint32_t *lens;
     size_t n;
     if (rt_render_init(&r, &s, bvh, &p)) {
         fprintf(stderr, "bench_accel: cannot set up the renderer\n");
         return 1;
     }
-    if (bench_capture_rays(&r, &rays, &n)) {
+    if (bench_capture_rays(&r, &rays, &n, &lens)) {
         fprintf(stderr, "bench_accel: out of memory\n");
         return 1;
     }
@@ -227,7 +225,7 @@ int main(int argc, char **argv)
     }
     printf("  bvh / brute speed:   %.2f\n", tf / tb);
     time_classes(bvh, &s, rays, n);
-    size_t bad_packets = time_packets(rt_accel_bvh(bvh), &r, tb, tf);
+    size_t bad_packets = time_packets(rt_accel_bvh(bvh), &p, rays, n, lens, tb, tf);
     if (bad_packets)
         fprintf(stderr, "bench_accel: packets and single queries disagree on %zu rays\n", bad_packets);
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
@@ -243,5 +241,6 @@ int main(int argc, char **argv)
     rt_accel_free(bvh);
     rt_scene_free(&s);
     free(rays);
+    free(lens);
     return bad != 0;
 }

@@ -16,21 +16,32 @@ static inline int bench_hits_differ(int ha, const rt_hit *a, int hb, const rt_hi
     return ha != hb || (ha && (a->t != b->t || a->prim != b->prim));
 }
 
-/* *rays is malloc'd; RT_OK, or RT_ENOMEM (and nothing allocated). */
-static int bench_capture_rays(const rt_renderer *r, rt_ray **rays, size_t *n)
+/* *rays is malloc'd, the paths one after the other (pixel by pixel, sample
+ * by sample); with lens not NULL, *lens is malloc'd too and holds each
+ * path's number of rays. RT_OK, or RT_ENOMEM (and nothing allocated). */
+static int bench_capture_rays(const rt_renderer *r, rt_ray **rays, size_t *n, uint32_t **lens)
 {
-    size_t cap = 0;
+    size_t cap = 0, paths = (size_t)r->p.width * r->p.height * r->p.samples, path = 0;
     *rays = NULL;
     *n = 0;
+    if (lens && !(*lens = malloc(paths * sizeof **lens)))
+        return RT_ENOMEM;
     for (uint32_t y = 0; y < r->p.height; y++)
         for (uint32_t x = 0; x < r->p.width; x++)
-            for (uint32_t k = 0; k < r->p.samples; k++) {
+            for (uint32_t k = 0; k < r->p.samples; k++, path++) {
                 if (rt_array_reserve((void **)rays, &cap, *n + r->p.max_depth, sizeof **rays)) {
                     free(*rays);
                     *rays = NULL;
+                    if (lens) {
+                        free(*lens);
+                        *lens = NULL;
+                    }
                     return RT_ENOMEM;
                 }
-                *n += rt_render_sample_rays(r, x, y, k, *rays + *n);
+                uint32_t len = rt_render_sample_rays(r, x, y, k, *rays + *n);
+                if (lens)
+                    (*lens)[path] = len;
+                *n += len;
             }
     return RT_OK;
 }

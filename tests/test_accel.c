@@ -43,10 +43,10 @@ static void check_same(const char *name, int ha, rt_hit a, int hb, rt_hit b, con
 /* Totals of rt_bvh_closest_counted over the random rays. */
 static rt_bvh_counts counted;
 
-/* The box tests: rt_accel_closest with these kinds. */
+/* The box tests: rt_accel_closest with these kinds. Each must match brute
+ * force, sphere and t, so they match each other. */
 #define N_BOX_TESTS 3
 static const rt_accel_kind box_tests[N_BOX_TESTS] = {RT_ACCEL_BVH, RT_ACCEL_BVH_SSE, RT_ACCEL_BVH_SCALAR};
-static long box_test_differ; /* rays on which the box tests found different spheres */
 
 static void compare(const rt_accel *const bvh[N_BOX_TESTS], const rt_accel *brute, const rt_ray *ray, double tmin)
 {
@@ -54,19 +54,10 @@ static void compare(const rt_accel *const bvh[N_BOX_TESTS], const rt_accel *brut
     int hb = rt_accel_closest(brute, ray, tmin, INFINITY, &b);
     rays++;
     hits += hb;
-    rt_hit first = {0, 0};
-    int hfirst = 0;
     for (int k = 0; k < N_BOX_TESTS; k++) {
         rt_hit a = {0, 0};
         int ha = rt_accel_closest(bvh[k], ray, tmin, INFINITY, &a);
         check_same(rt_accel_name(box_tests[k]), ha, a, hb, b, ray);
-        /* And the box tests with each other, sphere and t. */
-        if (k == 0) {
-            first = a;
-            hfirst = ha;
-        } else if (ha != hfirst || (ha && (a.prim != first.prim || a.t != first.t))) {
-            box_test_differ++;
-        }
     }
     rt_hit c = {0, 0};
     int hc = rt_bvh_closest_counted(rt_accel_bvh(bvh[0]), ray, tmin, INFINITY, &c, &counted);
@@ -79,7 +70,7 @@ static long packet_rays;
 
 static void compare_packet(const rt_bvh *b, const rt_accel *brute, const rt_ray *rays, int n, double tmin)
 {
-    rt_hit h[8];
+    rt_hit h[8] = {{0, 0}};
     int found = rt_bvh_closest_packet(b, rays, n, tmin, INFINITY, h);
     CHECK_EQ_INT(found >> n, 0);
     for (int k = 0; k < n; k++) {
@@ -297,13 +288,11 @@ int main(void)
     check_counts();
     check_outside();
     printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests; "
-           "random scenes with spheres outside the tree: %d; box tests bvh (%s), bvh-sse, bvh-scalar differ on %ld "
-           "rays; %ld rays in packets (%s)\n",
-           rays, hits, mismatches, counted.nodes, counted.spheres, scenes_outside, rt_accel_box_test(eb),
-           box_test_differ, packet_rays, rt_bvh_uses_avx(rt_accel_bvh(eb)) ? "avx packet traversal" : "one at a time");
+           "random scenes with spheres outside the tree: %d; box tests bvh (%s), bvh-sse, bvh-scalar; "
+           "%ld more rays in packets (%s)\n",
+           rays, hits, mismatches, counted.nodes, counted.spheres, scenes_outside, rt_accel_box_test(eb), packet_rays,
+           rt_bvh_uses_avx(rt_accel_bvh(eb)) ? "avx packet traversal" : "one at a time");
     rt_accel_free(eb);
-    CHECK_EQ_INT(box_test_differ, 0);
-    CHECK(packet_rays > rays);
     CHECK(scenes_outside > 0);
     CHECK(counted.nodes >= (uint64_t)rays); /* every scene has a root */
     CHECK_EQ_INT(mismatches, 0);
