@@ -83,6 +83,27 @@ static int affinity(cpu_set_t *set)
     return online > 0 ? (int)online : 1;
 }
 
+#ifdef RT_HAVE_MPI
+/* Whether an MPI launcher started this process: mpirun (Open MPI, MPICH,
+ * Intel MPI, MVAPICH) and srun with a PMI or PMIx plugin all leave one of
+ * these in the environment. A process started by hand is a job of one rank
+ * and needs no MPI: Open MPI would start it as a singleton, which forks an
+ * orted and costs ~0.4 s of every command here. RT_MPI_INIT=1 forces
+ * MPI_Init for a launcher this list does not know, 0 skips it. */
+static int launched_by_mpi(void)
+{
+    static const char *const vars[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "PMI_FD",
+                                       "PMI_PORT", "MPI_LOCALNRANKS", "MV2_COMM_WORLD_RANK"};
+    const char *force = getenv("RT_MPI_INIT");
+    if (force && *force)
+        return strcmp(force, "0") != 0;
+    for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
+        if (getenv(vars[i]))
+            return 1;
+    return 0;
+}
+#endif
+
 int rt_farm_init(rt_farm *f, int *argc, char ***argv)
 {
     memset(f, 0, sizeof *f);
@@ -90,6 +111,8 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     cpu_set_t mask;
     f->cores = affinity(&mask);
 #ifdef RT_HAVE_MPI
+    if (!launched_by_mpi())
+        return RT_OK;
     int provided = 0;
     if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
         return RT_EIO;

@@ -49,8 +49,8 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
             s->samples, s->max_depth);
     fprintf(fp, "  \"seed\": %" PRIu64 ", \"scene_hash\": \"%016" PRIx64 "\", \"image_hash\": \"%016" PRIx64 "\",\n",
             s->seed, s->scene_hash, s->image_hash);
-    fprintf(fp, "  \"intersector\": \"%s\", \"ranks\": %d, \"threads_per_rank\": %d,\n", s->intersector, s->ranks,
-            s->threads);
+    fprintf(fp, "  \"intersector\": \"%s\", \"ranks\": %d, \"threads_per_rank\": %d, \"mpi\": %s,\n",
+            s->intersector, s->ranks, s->threads, s->mpi ? "true" : "false");
     fprintf(fp, "  \"units\": %u, \"rows_restored\": %u,\n", s->units, s->rows_restored);
     fprintf(fp, "  \"render_seconds\": %.6f, \"total_seconds\": %.6f,\n", s->wall, s->total_wall);
     fprintf(fp, "  \"ray_segments\": %" PRIu64 ", \"segments_per_second\": %.1f,\n", s->segments,

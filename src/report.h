@@ -14,6 +14,7 @@ typedef struct rt_run_summary {
     uint64_t seed, scene_hash, image_hash;
     const char *output, *intersector;
     int ranks, threads;
+    int mpi; /* MPI initialised (a launcher started the job) */
     uint32_t units, rows_restored;
     double wall, total_wall;
     uint64_t segments;

@@ -76,6 +76,16 @@ if [ -n "$MPIRUN" ]; then
         fail "rank failure: status $status after ${took}s: $(grep -m1 error "$WORK/k.out")"
     fi
     [ ! -e "$WORK/k.png" ] && pass "no output file after a failed job" || fail "failed job left $WORK/k.png"
+    # A process started by hand runs without MPI (Open MPI would make it a
+    # singleton and fork an orted, ~0.4 s); one an MPI launcher starts, or
+    # one told RT_MPI_INIT=1, initialises MPI.
+    mpi_flag() { sed -n 's/.*"mpi": \([a-z]*\).*/\1/p' "$1"; }
+    "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m1.json" >/dev/null
+    check_eq "started by hand: MPI not initialised" "$(mpi_flag "$WORK/m1.json")" false
+    RT_MPI_INIT=1 "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m2.json" >/dev/null
+    check_eq "RT_MPI_INIT=1: MPI initialised" "$(mpi_flag "$WORK/m2.json")" true
+    mpirun_np 1 "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m3.json" >/dev/null
+    check_eq "mpirun -np 1: MPI initialised" "$(mpi_flag "$WORK/m3.json")" true
 fi
 # A different seed gives a different image (the comparison can fail).
 "$BIN" "${ARGS[@]}" --seed 7 -o "$WORK/s.png" >/dev/null
