@@ -33,6 +33,7 @@
 #endif
 
 #include "array.h"
+#include "mem.h"
 #include "status.h"
 
 enum { TAG_HELLO = 11, TAG_UNIT = 12, TAG_DONE = 13, TAG_RESULT = 14 };
@@ -320,14 +321,19 @@ static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sum
 /* A consistent copy of the committed counts and sums, taken under the lock
  * (other threads keep adding to S->acc). for_checkpoint marks the state as
  * saved. */
+static size_t snapshot_len(const shared *S)
+{
+    return (size_t)S->sched.height * S->W * 3;
+}
+
 static int snapshot(shared *S, int for_checkpoint, uint32_t **committed, int64_t **acc)
 {
-    size_t H = S->sched.height, n = H * S->W * 3;
+    size_t H = S->sched.height, n = snapshot_len(S);
     *committed = malloc(H * sizeof **committed);
-    *acc = malloc(n * sizeof **acc);
+    *acc = rt_mem_zeroed(n * sizeof **acc);
     if (!*committed || !*acc) {
         free(*committed);
-        free(*acc);
+        rt_mem_free(*acc, n * sizeof **acc);
         return RT_ENOMEM;
     }
     pthread_mutex_lock(&S->mu);
@@ -360,7 +366,7 @@ static void maybe_preview(shared *S)
         return;
     job->on_pass(job->on_pass_ctx, pass, rt_sched_pass_end(&S->sched, pass - 1), committed, acc);
     free(committed);
-    free(acc);
+    rt_mem_free(acc, snapshot_len(S) * sizeof *acc);
 }
 
 /* Writes the checkpoint when due and something new was committed (or now,
@@ -385,7 +391,7 @@ static void maybe_checkpoint(shared *S, int force)
     if (!st) {
         st = rt_ckpt_write(job->checkpoint, &job->ckpt_job, committed, acc);
         free(committed);
-        free(acc);
+        rt_mem_free(acc, snapshot_len(S) * sizeof *acc);
     }
     if (st) {
         pthread_mutex_lock(&S->mu);

@@ -10,6 +10,7 @@
 #include "accel.h"
 #include "cli.h"
 #include "farm.h"
+#include "mem.h"
 #include "image.h"
 #include "image_formats.h"
 #include "image_io.h"
@@ -292,7 +293,7 @@ int main(int argc, char **argv)
     uint32_t rows_restored = 0;
     uint64_t samples_restored = 0; /* row-samples: sum over rows */
     if (root) {
-        job.acc = calloc(npix * 3, sizeof *job.acc);
+        job.acc = rt_mem_zeroed(npix * 3 * sizeof *job.acc);
         if (!job.acc)
             rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", opt.width, opt.height);
         if (opt.resume) {
@@ -407,7 +408,7 @@ int main(int argc, char **argv)
         if (opt.trace && (st = rt_report_trace(opt.trace, res.trace, res.n_trace, farm.size)) != RT_OK)
             fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", opt.trace, rt_status_str(st));
         free(rgb);
-        free(job.acc);
+        rt_mem_free(job.acc, npix * 3 * sizeof *job.acc);
         free(restored);
         free(res.ranks);
         free(res.trace);
