@@ -6,8 +6,9 @@
 #     Embree build exists: build-embree/, made with -DRT_EMBREE=ON), 1 thread;
 #     and our BVH with the SSE2 box test (what x86-64 CPUs without AVX run)
 #     and with the portable scalar one (what non-x86 nodes run)
-#   - -j 2 vs -j 1 (thread scaling), and two independent -j 1 renders at
-#     once vs one (the scaling this machine allows at all)
+#   - -j 2 vs -j 1 (thread scaling), also over 4x the samples, and two
+#     independent -j 1 renders at once vs one (the scaling this machine
+#     allows at all)
 #   - mpirun -np 2 -j 1 vs -j 2 (the no-wasted-core check: rank 0 serves
 #     work without stealing a core from rendering)
 #   - the intersectors alone on the renderer's rays (build/bench_accel)
@@ -49,7 +50,7 @@ box_test() { # accel: the box test this machine runs for it, from the summary
 }
 NAMES=("bvh -j 1" "bvh-sse -j 1" "bvh-scalar -j 1" "brute -j 1")
 [ -x "$EMBREE_BIN" ] && NAMES+=("embree -j 1" "bvh (embree build) -j 1")
-NAMES+=("bvh -j 2" "2 processes -j 1" "mpirun -np 2 -j 1")
+NAMES+=("bvh -j 2" "2 processes -j 1" "mpirun -np 2 -j 1" "bvh -j 1, 4x spp" "bvh -j 2, 4x spp")
 run_config() { # name: one run of that configuration
     case $1 in
     "bvh -j 1") "$BIN" "${COMMON[@]}" -j 1 ;;
@@ -67,6 +68,8 @@ run_config() { # name: one run of that configuration
         awk '/^ray segments:/ {n += $3; gsub(/[(]/, "", $4); r += $4} END {printf "ray segments: %d (%.3f M/s)\n", n, r}' \
             "$TMP/p1" "$TMP/p2" ;;
     "mpirun -np 2 -j 1") mpirun -np 2 --bind-to none "$BIN" "${COMMON[@]}" -j 1 ;;
+    "bvh -j 1, 4x spp") "$BIN" "${COMMON[@]}" -s $((4 * S)) -j 1 ;;
+    "bvh -j 2, 4x spp") "$BIN" "${COMMON[@]}" -s $((4 * S)) -j 2 ;;
     esac
 }
 
@@ -96,6 +99,10 @@ if [ -x "$EMBREE_BIN" ]; then
     echo "  bvh / embree (1 thread, same build):     $(ratio "${RATE[bvh (embree build) -j 1]}" "${RATE[embree -j 1]}")"
 fi
 echo "  -j 2 / -j 1:                             $(ratio "${RATE[bvh -j 2]}" "${RATE[bvh -j 1]}")"
+# A render of a third of a second loses a few per cent to starting the
+# second thread (on this VM the first bands of a -j 2 run take up to 8x
+# longer: see README); the same scaling over a render four times as long:
+echo "  -j 2 / -j 1, 4x the samples:             $(ratio "${RATE[bvh -j 2, 4x spp]}" "${RATE[bvh -j 1, 4x spp]}")"
 # What this machine gives two renders that share nothing: the ceiling of
 # -j 2 / -j 1 here (shared VMs and clocks that drop with load keep it below 2).
 echo "  2 processes -j 1 / -j 1 (the machine):    $(ratio "${RATE[2 processes -j 1]}" "${RATE[bvh -j 1]}")"
