@@ -28,6 +28,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #ifdef RT_HAVE_MPI
 #include <mpi.h>
 #endif
@@ -75,9 +79,36 @@ typedef struct shared {
 
 /* ---- set-up ------------------------------------------------------------ */
 
-static int affinity(cpu_set_t *set)
+/* The CPUs this rank may run threads on, and how many threads fit there.
+ * With OpenMP thread binding on (OMP_PROC_BIND), the runtime has already
+ * pinned this thread to the first of its places when main starts, so the
+ * affinity mask shows one core: the places say where the team will run,
+ * one thread per place. */
+static int affinity(cpu_set_t *set, int *bound)
 {
     CPU_ZERO(set);
+    *bound = 0;
+#ifdef _OPENMP
+    int places = omp_get_num_places();
+    if (omp_get_proc_bind() != omp_proc_bind_false && places > 0) {
+        for (int p = 0; p < places; p++) {
+            int n = omp_get_place_num_procs(p);
+            int *ids = n > 0 ? malloc((size_t)n * sizeof *ids) : NULL;
+            if (ids) {
+                omp_get_place_proc_ids(p, ids);
+                for (int i = 0; i < n; i++)
+                    if (ids[i] >= 0 && ids[i] < CPU_SETSIZE)
+                        CPU_SET(ids[i], set);
+            }
+            free(ids);
+        }
+        if (CPU_COUNT(set) > 0) {
+            *bound = 1;
+            return places;
+        }
+        CPU_ZERO(set);
+    }
+#endif
     if (sched_getaffinity(0, sizeof *set, set) == 0 && CPU_COUNT(set) > 0)
         return CPU_COUNT(set);
     long online = sysconf(_SC_NPROCESSORS_ONLN);
@@ -110,7 +141,7 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     memset(f, 0, sizeof *f);
     f->size = f->mask_share = 1;
     cpu_set_t mask;
-    f->cores = affinity(&mask);
+    f->cores = affinity(&mask, &f->omp_bound);
 #ifdef RT_HAVE_MPI
     if (!launched_by_mpi())
         return RT_OK;

@@ -212,6 +212,10 @@ int main(int argc, char **argv)
         code = EXIT_USAGE;
     }
 #endif
+    if (!code && root && farm.omp_bound && farm.mask_share > 1)
+        fprintf(stderr, "rt-mpi: warning: OMP_PROC_BIND is set and %d ranks of a node share the same CPUs: each binds "
+                        "its threads from the first place on, onto the same cores (give each rank its own cores, e.g. "
+                        "mpirun --map-by slot:PE=N, or unset OMP_PROC_BIND)\n", farm.mask_share);
     if (!code && root && opt.threads > farm.cores)
         fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
                 opt.threads, farm.cores);

@@ -87,6 +87,15 @@ if [ -n "$MPIRUN" ]; then
     mpirun_np 1 "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m3.json" >/dev/null
     check_eq "mpirun -np 1: MPI initialised" "$(mpi_flag "$WORK/m3.json")" true
 fi
+# -j 0 takes every core also when OpenMP binds its threads (OMP_PROC_BIND:
+# the runtime pins the main thread to one core before main starts, so the
+# affinity mask alone would say one core).
+threads_of() { sed -n 's/.*"threads_per_rank": \([0-9]*\).*/\1/p' "$1"; }
+"$BIN" "${ARGS[@]}" -j 0 -o "$WORK/t.png" --stats "$WORK/t0.json" >/dev/null
+OMP_PROC_BIND=true "$BIN" "${ARGS[@]}" -j 0 -o "$WORK/t.png" --stats "$WORK/t1.json" >/dev/null 2>"$WORK/t1.err"
+check_eq "-j 0 threads with OMP_PROC_BIND=true (as without: $(threads_of "$WORK/t0.json"))" \
+    "$(threads_of "$WORK/t1.json")" "$(nproc)"
+same_as_ref "OMP_PROC_BIND=true -j 0" "$WORK/t.png"
 # A different seed gives a different image (the comparison can fail).
 "$BIN" "${ARGS[@]}" --seed 7 -o "$WORK/s.png" >/dev/null
 if cmp -s "$WORK/ref.png" "$WORK/s.png"; then fail "seed 7 gave the seed-42 image"; else pass "seed changes the image"; fi
