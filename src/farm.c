@@ -349,14 +349,15 @@ static void add_result(shared *S, int rank, const rt_unit *u, const int64_t *sum
     pthread_mutex_unlock(&S->mu);
 }
 
-/* A consistent copy of the committed counts and sums, taken under the lock
- * (other threads keep adding to S->acc). for_checkpoint marks the state as
- * saved. */
+/* Sums in the framebuffer, and so in a snapshot of it. */
 static size_t snapshot_len(const shared *S)
 {
     return (size_t)S->sched.height * S->W * 3;
 }
 
+/* A consistent copy of the committed counts and sums, taken under the lock
+ * (other threads keep adding to S->acc). for_checkpoint marks the state as
+ * saved. Release *acc with rt_mem_free. */
 static int snapshot(shared *S, int for_checkpoint, uint32_t **committed, int64_t **acc)
 {
     size_t H = S->sched.height, n = snapshot_len(S);

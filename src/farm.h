@@ -20,7 +20,7 @@
 
 typedef struct rt_farm {
     int rank, size;
-    int cores;       /* CPUs in this rank's affinity mask */
+    int cores;       /* CPUs in this rank's affinity mask (OpenMP places when omp_bound) */
     int mask_share;  /* ranks of this node with the very same mask (>= 1) */
     int mask_index;  /* this rank's place among them */
     int omp_bound;   /* OpenMP binds threads to places (OMP_PROC_BIND): cores counts places */

@@ -10,11 +10,11 @@
 #include "accel.h"
 #include "cli.h"
 #include "farm.h"
-#include "mem.h"
 #include "image.h"
 #include "image_formats.h"
 #include "image_io.h"
 #include "material.h"
+#include "mem.h"
 #include "progress.h"
 #include "report.h"
 #include "render.h"
@@ -405,8 +405,8 @@ int main(int argc, char **argv)
         printf("image hash:    %016" PRIx64 "\n", hash);
         fflush(stdout);
         rt_run_summary sum = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene_hash, hash,
-                              opt.output, rt_accel_name(opt.accel), farm.size, threads, farm.mpi, res.units, rows_restored,
-                              res.wall, rt_now() - t_start, res.segments, res.ranks};
+                              opt.output, rt_accel_name(opt.accel), farm.size, threads, farm.mpi, res.units,
+                              rows_restored, res.wall, rt_now() - t_start, res.segments, res.ranks};
         if (opt.stats && (st = rt_report_stats(opt.stats, &sum)) != RT_OK)
             fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", opt.stats, rt_status_str(st));
         if (opt.trace && (st = rt_report_trace(opt.trace, res.trace, res.n_trace, farm.size)) != RT_OK)
