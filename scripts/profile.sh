@@ -47,9 +47,9 @@ def calls(fn):
     m = re.search(r"((?:%s<.*\n)+)%s" % (LINE, own_line(fn)), text, re.M)
     return sum(num(c) for c in re.findall(r"\(([\d,]+)x\)", m.group(1))) if m else 0
 segs = stats["ray_segments"]
-# The AVX path loop calls the AVX traversal itself, for the bounces, and
-# the packet traversal for the camera rays (one per sample); every other
-# one goes through rt_accel_closest, once per segment.
+# The AVX path loop calls the packet traversal for the segments it traces
+# in packets (render.h, rt_render_in_packet) and the AVX traversal for the
+# others; every other path loop calls rt_accel_closest, once per segment.
 present = lambda fn: re.search(own_line(fn), text, re.M) is not None
 render = inclusive("rt_render_rows")
 if present("rt_bvh_closest_avx"):

@@ -475,7 +475,6 @@ static inline int test_spheres(const prim *p, uint32_t count, const rt_ray *ray,
     return any;
 }
 
-
 /* 1 when f's sign bit is set (f < 0 for the nonzero values of safe_inv). */
 static inline int sign_bit(float f)
 {
@@ -742,13 +741,18 @@ done:;
 #endif
 #endif
 
+int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
+{
+    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, NULL);
+}
+
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
 #if RT_BVH_HAVE_AVX
     if (b->avx)
         return rt_bvh_closest_avx(b, ray, tmin, tmax, hit);
 #endif
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, NULL);
+    return rt_bvh_closest_sse(b, ray, tmin, tmax, hit);
 }
 
 int rt_bvh_closest_packet(const rt_bvh *b, const rt_ray *rays, int n, double tmin, double tmax, rt_hit *hits)
@@ -761,11 +765,6 @@ int rt_bvh_closest_packet(const rt_bvh *b, const rt_ray *rays, int n, double tmi
     for (int k = 0; k < n; k++)
         found |= rt_bvh_closest(b, &rays[k], tmin, tmax, &hits[k]) << k;
     return found;
-}
-
-int rt_bvh_closest_sse(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
-{
-    return closest_base(b, ray, tmin, tmax, hit, RT_BVH_HAVE_SSE2, NULL);
 }
 
 int rt_bvh_uses_avx(const rt_bvh *b) { return b->avx; }

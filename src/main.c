@@ -384,9 +384,11 @@ int main(int argc, char **argv)
         else
             printf("scene:         %s, %u spheres, hash %016" PRIx64 "\n", opt.scene, scene.n_spheres, scene_hash);
         const char *box_test = rt_accel_box_test(accel);
-        printf("intersector:   %s (%s%s%s%.0f KiB)\n", rt_accel_name(opt.accel), box_test ? box_test : "",
-               box_test ? " box test, " : "", rt_accel_bvh_avx(accel) ? "packets of 8 rays, " : "",
-               rt_accel_bytes(accel) / 1024.0);
+        printf("intersector:   %s (%s%s", rt_accel_name(opt.accel), box_test ? box_test : "",
+               box_test ? " box test, " : "");
+        if (renderer.bvh_avx)
+            printf("packets of %d rays, ", RT_RENDER_PACKET);
+        printf("%.0f KiB)\n", rt_accel_bytes(accel) / 1024.0);
         printf("ranks:         %d x %d threads, %u units", farm.size, threads, res.units);
         if (samples_restored)
             printf(", %.1f%% of the samples restored from %s (%u complete rows)",

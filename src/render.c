@@ -20,9 +20,7 @@ static inline int omp_thread(void)
 
 /* Shadow-acne bias of the book. */
 #define T_MIN 0.001
-/* Samples whose paths go through the BVH together (rt_bvh_closest_packet_avx
- * takes up to 8 rays). */
-#define PACKET 8
+#define PACKET RT_RENDER_PACKET
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p)
 {
@@ -172,7 +170,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             /* Packets while no path has ended, so ray[0, n) is the packet. */
             int live = all;
             uint32_t depth = 0;
-            for (; depth < r->p.max_depth && ((n == PACKET && live == all) || (depth == 0 && n >= 2)); depth++) {
+            for (; depth < r->p.max_depth && rt_render_in_packet(n, live == all, depth); depth++) {
                 const int found = rt_bvh_closest_packet_avx(r->bvh_avx, ray, n, T_MIN, INFINITY, hit);
                 segs += (uint64_t)n;
                 for (int k = 0; k < n; k++)

@@ -74,6 +74,20 @@ typedef void (*rt_render_poll_fn)(void *ctx);
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads, rt_render_poll_fn poll, void *poll_ctx);
 
+/* Samples of a pixel whose paths the AVX path loop takes together
+ * (rt_bvh_closest_packet_avx traces up to 8 rays at once). */
+#define RT_RENDER_PACKET 8
+
+/* Whether the segments at depth of a group of n samples go to the BVH as
+ * one packet (else one ray at a time): the camera rays of two samples or
+ * more, and the later segments of a full group while all its paths live
+ * (all_live). The path loop follows this, and bench_accel groups the rays
+ * it times by it. */
+static inline int rt_render_in_packet(int n, int all_live, uint32_t depth)
+{
+    return (n == RT_RENDER_PACKET && all_live) || (depth == 0 && n >= 2);
+}
+
 /* Fixed-point encoding of one sample's channel value. */
 static inline int64_t rt_render_fix(double c)
 {

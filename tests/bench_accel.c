@@ -119,17 +119,19 @@ static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_
         exit(1);
     }
     for (size_t pixel = 0; pixel < (size_t)p->width * p->height; pixel++)
-        for (uint32_t s0 = 0; s0 < S; s0 += 8) {
-            const uint32_t g = S - s0 < 8 ? S - s0 : 8;
-            const rt_ray *first[8];
+        for (uint32_t s0 = 0; s0 < S; s0 += RT_RENDER_PACKET) {
+            const uint32_t g = S - s0 < RT_RENDER_PACKET ? S - s0 : RT_RENDER_PACKET;
+            const rt_ray *first[RT_RENDER_PACKET];
             uint32_t all_live = p->max_depth;
             for (uint32_t k = 0; k < g; k++, path++) {
                 first[k] = rays + at;
                 at += lens[path];
                 all_live = lens[path] < all_live ? lens[path] : all_live;
             }
-            /* packets while all the paths live (the camera rays in any case) */
-            const uint32_t pend = g == 8 ? all_live : g >= 2 ? 1 : 0;
+            /* the first pend segments of each path go in packets */
+            uint32_t pend = 0;
+            while (pend < p->max_depth && rt_render_in_packet((int)g, pend < all_live, pend))
+                pend++;
             for (uint32_t d = 0; d < pend; d++) {
                 for (uint32_t k = 0; k < g; k++)
                     pk[np++] = first[k][d];
