@@ -51,7 +51,9 @@ segs = stats["ray_segments"]
 # in packets (render.h, rt_render_in_packet) and the AVX traversal for the
 # others; every other path loop calls rt_accel_closest, once per segment.
 present = lambda fn: re.search(own_line(fn), text, re.M) is not None
-render = inclusive("rt_render_rows")
+# the render: rank 0 renders its units as one stream (render.c); the
+# commits of finished units (farm.c's local_done) are not part of it
+render = inclusive("rt_render_stream") - (inclusive("local_done") if present("local_done") else 0)
 if present("rt_bvh_closest_avx"):
     single, packet = "rt_bvh_closest_avx", "rt_bvh_closest_packet_avx"
     # every segment is one ray of a packet (2 to 8 rays) or one single query

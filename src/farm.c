@@ -454,41 +454,85 @@ static void interrupted(const rt_farm *f, shared *S)
     rt_farm_exit(f, RT_EXIT_INTERRUPTED);
 }
 
-static void *local_loop(void *arg)
+/* Rank 0's own rendering (all of it when there is no server): units from
+ * the shared queue, rendered as one stream (rt_render_stream) so that its
+ * threads never wait for each other between units. */
+typedef struct local {
+    shared *S;
+    double *taken; /* per unit id: when it was taken */
+    double last;   /* when the previous unit was done */
+} local;
+
+static int local_take(void *ctx, rt_unit *u)
 {
-    shared *S = arg;
-    const rt_farm_job *job = S->job;
-    int64_t *buf = NULL;
+    local *L = ctx;
+    if (!take_unit(L->S, u))
+        return 0;
+    L->taken[u->id] = rt_now() - L->S->t0;
+    return 1;
+}
+
+/* Units overlap in a stream; each is timed from when it was taken or the
+ * previous one was done, whichever is later, so that the rank's busy time
+ * (and its trace) counts every moment once. */
+static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
+{
+    local *L = ctx;
+    shared *S = L->S;
+    double end = rt_now() - S->t0, start = L->taken[u->id] > L->last ? L->taken[u->id] : L->last;
+    L->last = end;
+    add_result(S, 0, u, sums, segs, start, end);
+    if (S->serial) {
+        const rt_farm_job *job = S->job;
+        if (job->progress)
+            rt_progress_update(job->progress, S->sched.rows_done, S->segments);
+        maybe_preview(S);
+        maybe_checkpoint(S, 0);
+    }
+}
+
+/* --empty-units (farm tests): every unit adds nothing, without rendering. */
+static void empty_loop(shared *S)
+{
+    int64_t *zero = NULL;
     size_t cap = 0;
     rt_unit u;
     while (take_unit(S, &u)) {
         size_t n = (size_t)(u.y1 - u.y0) * S->W * 3;
         if (n > cap) {
-            int64_t *q = realloc(buf, n * sizeof *buf);
-            if (!q) {
+            free(zero);
+            cap = 0;
+            if (!(zero = calloc(n, sizeof *zero))) {
                 pthread_mutex_lock(&S->mu);
                 S->error = RT_ENOMEM;
                 pthread_mutex_unlock(&S->mu);
                 break;
             }
-            buf = q;
             cap = n;
         }
-        memset(buf, 0, n * sizeof *buf);
-        double t0 = rt_now() - S->t0;
-        uint64_t segs = job->empty_units ? 0
-                                          : rt_render_rows(job->renderer, u.y0, u.y1, u.s0, u.s1, buf, job->threads, NULL, NULL);
-        if (g_stop)
-            break; /* the unit may be partial: drop it */
-        add_result(S, 0, &u, buf, segs, t0, rt_now() - S->t0);
-        if (S->serial) {
-            if (job->progress)
-                rt_progress_update(job->progress, S->sched.rows_done, S->segments);
-            maybe_preview(S);
-            maybe_checkpoint(S, 0);
-        }
+        double t = rt_now() - S->t0;
+        add_result(S, 0, &u, zero, 0, t, t);
     }
-    free(buf);
+    free(zero);
+}
+
+static void *local_loop(void *arg)
+{
+    shared *S = arg;
+    const rt_farm_job *job = S->job;
+    if (job->empty_units) {
+        empty_loop(S);
+        return NULL;
+    }
+    local L = {S, calloc(S->sched.n_units ? S->sched.n_units : 1, sizeof *L.taken), 0};
+    rt_render_source src = {local_take, local_done, &L};
+    int st = L.taken ? rt_render_stream(job->renderer, job->threads, &src) : RT_ENOMEM;
+    if (st) {
+        pthread_mutex_lock(&S->mu);
+        S->error = st;
+        pthread_mutex_unlock(&S->mu);
+    }
+    free(L.taken);
     return NULL;
 }
 

@@ -6,7 +6,11 @@
 #include <omp.h>
 #endif
 
+#include <pthread.h>
+#include <string.h>
+
 #include "bvh.h"
+#include "mem.h"
 #include "status.h"
 
 static inline int omp_thread(void)
@@ -225,6 +229,22 @@ __attribute__((target("avx"), flatten)) static uint64_t pixel_avx(const rt_rende
 }
 #endif
 
+/* Pixel i of a block of rows from y0: its samples [s0, s1) added to
+ * acc[3 i ..]; returns the ray segments traced. */
+static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0, uint32_t s0, uint32_t s1, long i,
+                                 int64_t *acc)
+{
+    const uint32_t W = r->p.width;
+    uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
+    int64_t sum[3];
+    uint64_t segs = fn(r, x, y, s0, s1, sum);
+    int64_t *px = acc + i * 3;
+    px[0] += sum[0];
+    px[1] += sum[1];
+    px[2] += sum[2];
+    return segs;
+}
+
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads, rt_render_poll_fn poll, void *poll_ctx)
 {
@@ -251,16 +271,163 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
     for (long i = 0; i < npix; i++) {
         if (r->stop && *r->stop)
             continue;
-        uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
-        int64_t sum[3];
-        uint64_t segs = fn(r, x, y, s0, s1, sum);
+        total += add_pixel(r, fn, y0, s0, s1, i, acc);
         if (poll && omp_thread() == 0)
             poll(poll_ctx);
-        int64_t *px = acc + i * 3;
-        px[0] += sum[0];
-        px[1] += sum[1];
-        px[2] += sum[2];
-        total += segs;
     }
     return total;
+}
+
+/* ---- a stream of units ---------------------------------------------------- */
+
+typedef struct stream_unit {
+    rt_unit u;
+    int64_t *buf;
+    size_t cap;                 /* entries of buf */
+    long npix, next, left;      /* pixels: in all, next to give out, not yet rendered */
+    uint64_t segments, order;   /* order: when it was taken */
+    int held;
+} stream_unit;
+
+typedef struct stream {
+    const rt_renderer *r;
+    const rt_render_source *src;
+    pixel_fn fn;
+    int threads, status, exhausted;
+    uint64_t taken;
+    pthread_mutex_t mu;      /* everything below */
+    pthread_cond_t freed;    /* a unit was handed on, or a thread left */
+    pthread_mutex_t done_mu; /* src->done one call at a time */
+    stream_unit units[RT_RENDER_STREAM_UNITS];
+    int n_units;
+} stream;
+
+static int stopped(const rt_renderer *r)
+{
+    return r->stop && *r->stop;
+}
+
+/* The next run of pixels for the calling thread, under st->mu: from the
+ * oldest unit in hand that has pixels left, else from a new unit; waits
+ * while every unit is given out and none can be taken. Returns the unit,
+ * or NULL when there is nothing more to do. */
+static stream_unit *stream_claim(stream *st, long *a, long *b)
+{
+    for (;;) {
+        if (st->status || stopped(st->r))
+            return NULL;
+        stream_unit *best = NULL, *empty = NULL;
+        int held = 0;
+        for (int k = 0; k < st->n_units; k++) {
+            stream_unit *su = &st->units[k];
+            if (!su->held)
+                empty = empty ? empty : su;
+            else if (++held, su->next < su->npix && (!best || su->order < best->order))
+                best = su;
+        }
+        if (!best && !st->exhausted && empty) {
+            rt_unit u;
+            if (!st->src->take(st->src->ctx, &u)) {
+                st->exhausted = 1;
+                continue;
+            }
+            size_t need = (size_t)(u.y1 - u.y0) * st->r->p.width * 3;
+            if (need > empty->cap) { /* the first units are the largest (schedule.h) */
+                rt_mem_free(empty->buf, empty->cap * sizeof *empty->buf);
+                empty->cap = 0;
+                if (!(empty->buf = rt_mem_zeroed(need * sizeof *empty->buf))) {
+                    st->status = RT_ENOMEM;
+                    return NULL;
+                }
+                empty->cap = need;
+            }
+            empty->u = u;
+            empty->npix = empty->left = (long)(u.y1 - u.y0) * st->r->p.width;
+            empty->next = 0;
+            empty->segments = 0;
+            empty->order = st->taken++;
+            empty->held = 1;
+            best = empty;
+        }
+        if (best) {
+            /* guided: runs shrink as the unit's pixels run out, so its
+             * last runs are short; neighbours stay on one thread */
+            long rest = best->npix - best->next, n = rest / (2 * st->threads);
+            n = n < 4 ? 4 : n;
+            *a = best->next;
+            *b = best->next = best->next + (n < rest ? n : rest);
+            return best;
+        }
+        if (!held)
+            return NULL; /* nothing in hand and nothing to take: the end */
+        if (st->exhausted)
+            return NULL; /* the last units' runs are all given out */
+        pthread_cond_wait(&st->freed, &st->mu);
+    }
+}
+
+static void stream_thread(stream *st)
+{
+    const rt_renderer *r = st->r;
+    pthread_mutex_lock(&st->mu);
+    long a, b;
+    stream_unit *su;
+    while ((su = stream_claim(st, &a, &b))) {
+        pthread_mutex_unlock(&st->mu);
+        uint64_t segs = 0;
+        for (long i = a; i < b && !stopped(r); i++)
+            segs += add_pixel(r, st->fn, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
+        pthread_mutex_lock(&st->mu);
+        su->segments += segs;
+        su->left -= b - a;
+        if (su->left == 0) {
+            pthread_mutex_unlock(&st->mu);
+            const size_t n = (size_t)su->npix * 3;
+            if (!stopped(r)) {
+                pthread_mutex_lock(&st->done_mu);
+                st->src->done(st->src->ctx, &su->u, su->buf, su->segments);
+                pthread_mutex_unlock(&st->done_mu);
+            }
+            memset(su->buf, 0, n * sizeof *su->buf); /* for the next unit */
+            pthread_mutex_lock(&st->mu);
+            su->held = 0;
+            pthread_cond_broadcast(&st->freed);
+        }
+    }
+    pthread_cond_broadcast(&st->freed); /* a waiting thread may have to leave too */
+    pthread_mutex_unlock(&st->mu);
+}
+
+int rt_render_stream(const rt_renderer *r, int nthreads, const rt_render_source *src)
+{
+#ifdef _OPENMP
+    if (nthreads <= 0)
+        nthreads = omp_get_max_threads();
+#else
+    nthreads = 1;
+#endif
+    stream st;
+    memset(&st, 0, sizeof st);
+    st.r = r;
+    st.src = src;
+    st.fn = pixel_base;
+#if RT_BVH_HAVE_AVX
+    if (r->bvh_avx)
+        st.fn = pixel_avx;
+#endif
+    st.threads = nthreads;
+    /* one unit more than threads, so that a thread that has finished its
+     * runs can always start on a new unit while the others finish theirs */
+    st.n_units = nthreads + 1 < RT_RENDER_STREAM_UNITS ? nthreads + 1 : RT_RENDER_STREAM_UNITS;
+    pthread_mutex_init(&st.mu, NULL);
+    pthread_mutex_init(&st.done_mu, NULL);
+    pthread_cond_init(&st.freed, NULL);
+#pragma omp parallel num_threads(nthreads) if (nthreads > 1)
+    stream_thread(&st);
+    pthread_cond_destroy(&st.freed);
+    pthread_mutex_destroy(&st.done_mu);
+    pthread_mutex_destroy(&st.mu);
+    for (int k = 0; k < st.n_units; k++)
+        rt_mem_free(st.units[k].buf, st.units[k].cap * sizeof *st.units[k].buf);
+    return st.status;
 }

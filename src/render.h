@@ -16,6 +16,7 @@
 #include "camera.h"
 #include "material.h"
 #include "scene.h"
+#include "schedule.h"
 
 /* Version of the sampling: which random numbers a sample draws and what it
  * does with them. Bumped whenever a change alters any pixel of any image, so
@@ -73,6 +74,31 @@ typedef void (*rt_render_poll_fn)(void *ctx);
  * traced. */
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads, rt_render_poll_fn poll, void *poll_ctx);
+
+/* A source of work units for rt_render_stream. take fills *u with the next
+ * unit and returns 1, or returns 0 when there are no more (it is not called
+ * again then). done receives each finished unit once: its sums, laid out as
+ * rt_render_rows' acc (row u->y0 first) and valid only during the call, and
+ * the ray segments it took. Each is called by one thread at a time, from
+ * any thread of the team; take may run while done does. */
+typedef struct rt_render_source {
+    int (*take)(void *ctx, rt_unit *u);
+    void (*done)(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments);
+    void *ctx;
+} rt_render_source;
+
+/* Renders every unit src has, with nthreads OpenMP threads (0 = the OpenMP
+ * default) that share out each unit's pixels in runs. A thread that finds
+ * every pixel of the units in hand given out takes the next unit instead of
+ * waiting for the others at the unit's end, and the thread that finishes a
+ * unit's last run hands its sums to done while the others render on: no
+ * barrier, no idle thread and no serial step between units. At most
+ * RT_RENDER_STREAM_UNITS units are in hand at once (each with a buffer of its
+ * own). When *r->stop becomes non-zero, the units in hand are dropped (done
+ * is not called for them) and it returns RT_OK; RT_ENOMEM if a buffer could
+ * not be had (the units in hand are dropped). */
+int rt_render_stream(const rt_renderer *r, int nthreads, const rt_render_source *src);
+#define RT_RENDER_STREAM_UNITS 4
 
 /* Samples of a pixel whose paths the AVX path loop takes together
  * (rt_bvh_closest_packet_avx traces up to 8 rays at once). */

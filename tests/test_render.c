@@ -1,5 +1,6 @@
 /* test_render.c - the determinism contract at the core: any split of the
  * work (bands, sample ranges, thread counts) sums to identical bits. */
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -8,6 +9,43 @@
 #include "image.h"
 #include "render.h"
 #include "status.h"
+
+/* A source for rt_render_stream: hands out units[0..n) in order and adds
+ * each finished unit into acc; with stop_at, sets *stop when asked for unit
+ * stop_at (a signal arriving mid-job). */
+typedef struct source {
+    const rt_unit *units;
+    uint32_t n, next, stop_at, width;
+    int64_t *acc;
+    uint64_t segments;
+    int done_calls[64], inside, overlapped;
+    volatile sig_atomic_t *stop;
+} source;
+
+static int src_take(void *ctx, rt_unit *u)
+{
+    source *S = ctx;
+    if (S->stop && S->next == S->stop_at)
+        *S->stop = 1;
+    if (S->next == S->n)
+        return 0;
+    *u = S->units[S->next++];
+    return 1;
+}
+
+static void src_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
+{
+    source *S = ctx;
+    if (__atomic_add_fetch(&S->inside, 1, __ATOMIC_SEQ_CST) > 1)
+        S->overlapped = 1;
+    size_t n = (size_t)(u->y1 - u->y0) * S->width * 3;
+    int64_t *dst = S->acc + (size_t)u->y0 * S->width * 3;
+    for (size_t i = 0; i < n; i++)
+        dst[i] += sums[i];
+    S->segments += segs;
+    S->done_calls[u->id]++;
+    __atomic_sub_fetch(&S->inside, 1, __ATOMIC_SEQ_CST);
+}
 
 int main(void)
 {
@@ -38,6 +76,45 @@ int main(void)
     rt_render_rows(&r, 0, p.height, 0, 1, alt, 1, NULL, NULL);
     rt_render_rows(&r, 0, p.height, 1, 4, alt, 3, NULL, NULL);
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
+
+    /* A stream of units of every shape (rows, sample ranges, one row, the
+     * largest first, as the schedule hands them out): each unit done once,
+     * one done call at a time, the same image and segments for any thread
+     * count (more threads than units in hand included). */
+    const rt_unit units[] = {{0, 0, 9, 0, 6},   {1, 9, 15, 0, 2}, {2, 9, 15, 2, 6}, {3, 15, 16, 0, 6},
+                             {4, 16, 20, 0, 6}, {5, 20, 22, 0, 5}, {6, 22, 24, 0, 6}, {7, 20, 22, 5, 6}};
+    const uint32_t n_units = sizeof units / sizeof units[0];
+    for (int threads = 1; threads <= 5; threads++) {
+        memset(alt, 0, n * sizeof *alt);
+        source S = {units, n_units, 0, 0, p.width, alt, 0, {0}, 0, 0, NULL};
+        rt_render_source src = {src_take, src_done, &S};
+        CHECK_EQ_INT(rt_render_stream(&r, threads, &src), RT_OK);
+        CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
+        CHECK_EQ_U64(S.segments, segs_ref);
+        int once = 1;
+        for (uint32_t k = 0; k < n_units; k++)
+            once &= S.done_calls[k] == 1;
+        CHECK(once);
+        CHECK_EQ_INT(S.overlapped, 0);
+        CHECK_EQ_INT(S.next, n_units);
+    }
+    /* A stop drops the units in hand: the unit taken as it came is never
+     * done, nothing is taken after it, and a unit done before it is whole
+     * (unit 0: its rows as in ref). */
+    for (int threads = 1; threads <= 3; threads++) {
+        volatile sig_atomic_t stop = 0;
+        rt_renderer rs = r;
+        rs.stop = &stop;
+        memset(alt, 0, n * sizeof *alt);
+        source S = {units, n_units, 0, 3, p.width, alt, 0, {0}, 0, 0, &stop};
+        rt_render_source src = {src_take, src_done, &S};
+        CHECK_EQ_INT(rt_render_stream(&rs, threads, &src), RT_OK);
+        CHECK_EQ_INT(stop, 1);
+        CHECK_EQ_INT(S.next, 4); /* unit 3 was taken as the stop came, none after */
+        CHECK_EQ_INT(S.done_calls[3], 0);
+        if (S.done_calls[0])
+            CHECK(memcmp(ref, alt, (size_t)9 * p.width * 3 * sizeof *ref) == 0);
+    }
 
     /* Brute force gives the same image as the BVH. */
     rt_accel *brute;
