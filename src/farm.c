@@ -8,9 +8,12 @@
  *
  * Workers: ask for `prefetch` units up front; each result they send is also
  * the request for one more unit, so a worker always has the next band at
- * hand and a slow rank simply gets fewer bands. While the OpenMP team renders,
- * the master thread polls its outstanding sends so results flow without
- * waiting for the band to end.
+ * hand and a slow rank simply gets fewer bands.
+ *
+ * Every rank renders its units as one stream (rt_render_stream): no barrier
+ * between units. On a worker, the stream's master thread (the main thread)
+ * also does the MPI between its pixels: results go out as soon as they are
+ * done, units are received as they come.
  *
  * Results are fixed-point sums (see render.h), so the order in which they
  * arrive does not change a single bit of the image. */
@@ -525,7 +528,7 @@ static void *local_loop(void *arg)
         return NULL;
     }
     local L = {S, calloc(S->sched.n_units ? S->sched.n_units : 1, sizeof *L.taken), 0};
-    rt_render_source src = {local_take, local_done, &L};
+    rt_render_source src = {local_take, local_done, NULL, &L};
     int st = L.taken ? rt_render_stream(job->renderer, job->threads, &src) : RT_ENOMEM;
     if (st) {
         pthread_mutex_lock(&S->mu);
@@ -678,131 +681,244 @@ static void worker_stop(void)
     _exit(RT_EXIT_INTERRUPTED);
 }
 
-typedef struct worker_poll {
-    MPI_Request *req;
-    int n;
-} worker_poll;
+/* A worker: its units come from rank 0 and its results go back by MPI,
+ * which only its main thread may call (MPI_THREAD_FUNNELED), while any
+ * thread of the render stream takes units and hands in results. So the
+ * stream's take and done only move units and results through this state,
+ * under mu; poll, on the main thread, does the MPI: it posts the results
+ * ready, completes sends, and receives units. */
+enum { RES_FREE, RES_READY, RES_SENDING };
 
-static void poll_sends(void *ctx)
+typedef struct result {
+    int64_t *buf; /* HDR + sums */
+    size_t cap, len;
+    MPI_Request req;
+    int state;
+} result;
+
+typedef struct in_hand {
+    uint32_t id;
+    int used;
+    double taken;
+} in_hand;
+
+typedef struct worker {
+    const rt_farm *f;
+    const rt_farm_job *job;
+    rt_rank_stats *me;
+    double t_start, last_end, last_poll;
+    pthread_mutex_t mu;
+    rt_unit *queue; /* received, not yet taken */
+    in_hand *hand;  /* taken, not yet done: when each was taken */
+    int depth, qhead, qlen, finished, idle, ready, failed;
+    result *res;
+    size_t n_res, cap_res;
+} worker;
+
+static int worker_take(void *ctx, rt_unit *u)
 {
-    worker_poll *w = ctx;
-    int flag;
-    MPI_Testall(w->n, w->req, &flag, MPI_STATUSES_IGNORE);
+    worker *w = ctx;
+    pthread_mutex_lock(&w->mu);
+    int got = w->qlen > 0 ? 1 : w->finished ? 0 : -1;
+    if (got > 0) {
+        *u = w->queue[w->qhead];
+        w->qhead = (w->qhead + 1) % w->depth;
+        w->qlen--;
+        for (int k = 0; k < w->depth; k++)
+            if (!w->hand[k].used) { /* there are never more than depth units out */
+                w->hand[k] = (in_hand){u->id, 1, rt_now() - w->t_start};
+                break;
+            }
+    }
+    pthread_mutex_unlock(&w->mu);
+    return got;
+}
+
+/* A finished unit: into a free result buffer, ready for poll to send. Its
+ * time is counted from when it was taken or the previous unit was done,
+ * whichever is later (units overlap in the stream). */
+static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
+{
+    worker *w = ctx;
+    const size_t n = HDR + (size_t)(u->y1 - u->y0) * w->job->renderer->p.width * 3;
+    double end = rt_now() - w->t_start, start = w->last_end;
+    pthread_mutex_lock(&w->mu);
+    for (int k = 0; k < w->depth; k++)
+        if (w->hand[k].used && w->hand[k].id == u->id) {
+            start = w->hand[k].taken > start ? w->hand[k].taken : start;
+            w->hand[k].used = 0;
+        }
+    result *r = NULL;
+    for (size_t k = 0; k < w->n_res && !r; k++)
+        if (w->res[k].state == RES_FREE)
+            r = &w->res[k];
+    if (!r && rt_array_reserve((void **)&w->res, &w->cap_res, w->n_res + 1, sizeof *w->res) == RT_OK) {
+        r = &w->res[w->n_res++];
+        *r = (result){NULL, 0, 0, MPI_REQUEST_NULL, RES_FREE};
+    }
+    if (r && n > r->cap) {
+        free(r->buf);
+        r->cap = 0;
+        if ((r->buf = malloc(n * sizeof *r->buf)))
+            r->cap = n;
+    }
+    if (!r || !r->buf) {
+        w->failed = 1; /* poll ends the job: only the main thread may */
+    } else {
+        r->buf[0] = u->id;
+        r->buf[1] = (int64_t)segs;
+        r->buf[2] = (int64_t)(start * 1e9);
+        r->buf[3] = (int64_t)(end * 1e9);
+        memcpy(r->buf + HDR, sums, (n - HDR) * sizeof *sums);
+        r->len = n;
+        r->state = RES_READY;
+        w->ready = 1;
+    }
+    pthread_mutex_unlock(&w->mu);
+    w->last_end = end;
+    rt_rank_stats *me = w->me;
+    me->units++;
+    me->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / w->job->renderer->p.samples;
+    me->segments += (double)segs;
+    me->busy += end - start;
+}
+
+/* Sends the results that are ready and completes the sends that are done;
+ * returns 1 when every result has gone out. Main thread only. */
+static int worker_send(worker *w)
+{
+    pthread_mutex_lock(&w->mu);
+    if (w->failed)
+        rt_farm_fail(w->f, 1, "out of memory for a result");
+    int all = 1;
+    for (size_t k = 0; k < w->n_res; k++) {
+        result *r = &w->res[k];
+        if (r->state == RES_READY) {
+            if (MPI_Isend(r->buf, (int)r->len, MPI_INT64_T, 0, TAG_RESULT, MPI_COMM_WORLD, &r->req) != MPI_SUCCESS)
+                rt_farm_fail(w->f, 1, "sending a result to rank 0 failed");
+            r->state = RES_SENDING;
+        }
+        if (r->state == RES_SENDING) {
+            int flag = 0;
+            MPI_Test(&r->req, &flag, MPI_STATUS_IGNORE);
+            if (flag)
+                r->state = RES_FREE;
+            else
+                all = 0;
+        }
+    }
+    w->ready = 0;
+    pthread_mutex_unlock(&w->mu);
+    return all;
+}
+
+/* The stream's poll: the worker's MPI, on its main thread. Results go out
+ * at once; otherwise, while rendering, it looks for messages every 100 us
+ * at most. Idle, it sleeps (nap) when nothing came. */
+static int worker_poll(void *ctx, int idle)
+{
+    worker *w = ctx;
+    double t0 = rt_now();
+    if (!idle && !w->ready && t0 - w->last_poll < 1e-4)
+        return 0;
+    w->last_poll = t0;
+    worker_send(w);
+    int got = 0;
+    for (;;) {
+        if (g_stop)
+            return 1; /* the stream sees the stop too; wake its threads */
+        int flag = 0;
+        MPI_Status status;
+        if (probe(0, &flag, &status) != MPI_SUCCESS)
+            rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
+        if (!flag)
+            break;
+        got = 1;
+        if (status.MPI_TAG == TAG_UNIT) {
+            uint32_t m[5];
+            MPI_Recv(m, 5, MPI_UINT32_T, 0, TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            rt_unit u = {m[0], m[1], m[2], m[3], m[4]};
+            const rt_render_params *p = &w->job->renderer->p;
+            if (u.y1 <= u.y0 || u.y1 > p->height || u.s1 <= u.s0 || u.s1 > p->samples)
+                rt_farm_fail(w->f, 1, "malformed work unit from rank 0");
+            pthread_mutex_lock(&w->mu);
+            int full = w->qlen == w->depth;
+            if (!full)
+                w->queue[(w->qhead + w->qlen++) % w->depth] = u;
+            pthread_mutex_unlock(&w->mu);
+            if (full)
+                rt_farm_fail(w->f, 1, "received more units than requested");
+        } else if (status.MPI_TAG == TAG_DONE) {
+            MPI_Recv(NULL, 0, MPI_UINT32_T, 0, TAG_DONE, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            pthread_mutex_lock(&w->mu);
+            w->finished = 1;
+            pthread_mutex_unlock(&w->mu);
+        } else {
+            rt_farm_fail(w->f, 1, "unexpected message tag %d from rank 0", status.MPI_TAG);
+        }
+    }
+    if (got)
+        w->idle = 0;
+    if (idle && !got) {
+        nap(&w->idle);
+        w->me->wait += rt_now() - t0;
+    } else {
+        w->me->comm += rt_now() - t0;
+    }
+    return got;
 }
 
 static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t_start)
 {
-    const rt_renderer *r = job->renderer;
-    const uint32_t W = r->p.width;
-    int depth = job->prefetch > 0 ? job->prefetch : 2;
-    int64_t *bufs[2] = {NULL, NULL};
-    size_t caps[2] = {0, 0};
-    rt_unit *queue = malloc((size_t)depth * sizeof *queue);
-    if (!queue)
+    worker w;
+    memset(&w, 0, sizeof w);
+    w.f = f;
+    w.job = job;
+    w.me = me;
+    w.t_start = t_start;
+    w.depth = job->prefetch > 0 ? job->prefetch : 2;
+    w.queue = malloc((size_t)w.depth * sizeof *w.queue);
+    w.hand = calloc((size_t)w.depth, sizeof *w.hand);
+    if (!w.queue || !w.hand)
         rt_farm_fail(f, 1, "out of memory for work buffers");
-    MPI_Request req[2] = {MPI_REQUEST_NULL, MPI_REQUEST_NULL};
-    worker_poll wp = {req, 2};
+    pthread_mutex_init(&w.mu, NULL);
     /* Test hook: make one rank fail, to check that the job ends promptly. */
     const char *fault = getenv("RT_FAULT_INJECT_RANK");
     if (fault && atoi(fault) == f->rank)
         rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
-    int32_t want = depth;
+    int32_t want = w.depth;
     if (MPI_Send(&want, 1, MPI_INT32_T, 0, TAG_HELLO, MPI_COMM_WORLD) != MPI_SUCCESS)
         rt_farm_fail(f, 1, "cannot reach rank 0");
-    int qhead = 0, qlen = 0, done = 0, idle = 0, k = 0;
-    for (;;) {
-        /* Take in every message that is there; wait (sleeping) only when
-         * there is nothing to render. */
-        double w0 = rt_now();
-        int waited = 0;
-        for (;;) {
-            if (g_stop)
-                worker_stop();
-            int flag = 0;
-            MPI_Status status;
-            if (probe(0, &flag, &status) != MPI_SUCCESS)
-                rt_farm_fail(f, 1, "MPI_Iprobe failed");
-            if (!flag) {
-                if (qlen > 0 || done)
-                    break;
-                int sflag;
-                MPI_Testall(2, req, &sflag, MPI_STATUSES_IGNORE);
-                nap(&idle);
-                waited = 1;
-                continue;
-            }
-            idle = 0;
-            if (status.MPI_TAG == TAG_UNIT) {
-                uint32_t m[5];
-                MPI_Recv(m, 5, MPI_UINT32_T, 0, TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                if (qlen == depth)
-                    rt_farm_fail(f, 1, "received more units than requested");
-                rt_unit u = {m[0], m[1], m[2], m[3], m[4]};
-                if (u.y1 <= u.y0 || u.y1 > r->p.height || u.s1 <= u.s0 || u.s1 > r->p.samples)
-                    rt_farm_fail(f, 1, "malformed work unit from rank 0");
-                queue[(qhead + qlen++) % depth] = u;
-            } else if (status.MPI_TAG == TAG_DONE) {
-                MPI_Recv(NULL, 0, MPI_UINT32_T, 0, TAG_DONE, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                done = 1;
-            } else {
-                rt_farm_fail(f, 1, "unexpected message tag %d from rank 0", status.MPI_TAG);
-            }
+    if (job->empty_units) {
+        /* --empty-units: every unit adds nothing, without rendering */
+        int64_t *zero = calloc((size_t)job->renderer->p.height * job->renderer->p.width * 3, sizeof *zero);
+        if (!zero)
+            rt_farm_fail(f, 1, "out of memory for work buffers");
+        rt_unit u;
+        int got;
+        while (!g_stop && (got = worker_take(&w, &u)) != 0) {
+            if (got > 0)
+                worker_done(&w, &u, zero, 0);
+            worker_poll(&w, got < 0);
         }
-        double w1 = rt_now();
-        if (waited)
-            me->wait += w1 - w0;
-        else
-            me->comm += w1 - w0;
-        if (qlen == 0 && done)
-            break;
-        rt_unit u = queue[qhead];
-        qhead = (qhead + 1) % depth;
-        qlen--;
-        while (req[k] != MPI_REQUEST_NULL) { /* MPI_Wait would busy-poll */
-            int flag = 0;
-            MPI_Test(&req[k], &flag, MPI_STATUS_IGNORE);
-            if (!flag)
-                nap(&idle);
-        }
-        size_t n = (size_t)(u.y1 - u.y0) * W * 3;
-        if (HDR + n > caps[k]) {
-            int64_t *q = realloc(bufs[k], (HDR + n) * sizeof *q);
-            if (!q)
-                rt_farm_fail(f, 1, "out of memory for a %u-row unit", u.y1 - u.y0);
-            bufs[k] = q;
-            caps[k] = HDR + n;
-        }
-        int64_t *b = bufs[k];
-        memset(b, 0, (HDR + n) * sizeof *b);
-        double t0 = rt_now();
-        uint64_t segs = job->empty_units ? 0 : rt_render_rows(r, u.y0, u.y1, u.s0, u.s1, b + HDR, job->threads, poll_sends, &wp);
-        double t1 = rt_now();
-        if (g_stop)
-            worker_stop();
-        b[0] = u.id;
-        b[1] = (int64_t)segs;
-        b[2] = (int64_t)((t0 - t_start) * 1e9);
-        b[3] = (int64_t)((t1 - t_start) * 1e9);
-        me->units++;
-        me->rows += (double)(u.y1 - u.y0) * (u.s1 - u.s0) / r->p.samples;
-        me->segments += (double)segs;
-        me->busy += t1 - t0;
-        if (MPI_Isend(b, (int)(HDR + n), MPI_INT64_T, 0, TAG_RESULT, MPI_COMM_WORLD, &req[k]) != MPI_SUCCESS)
-            rt_farm_fail(f, 1, "sending a result to rank 0 failed");
-        me->comm += rt_now() - t1;
-        k ^= 1;
+        free(zero);
+    } else {
+        rt_render_source src = {worker_take, worker_done, worker_poll, &w};
+        int st = rt_render_stream(job->renderer, job->threads, &src);
+        if (st)
+            rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(st));
     }
-    /* Wait for the last results without spinning. */
-    for (;;) {
-        int flag = 0;
-        MPI_Testall(2, req, &flag, MPI_STATUSES_IGNORE);
-        if (flag)
-            break;
-        nap(&idle);
-    }
-    free(bufs[0]);
-    free(bufs[1]);
-    free(queue);
+    if (g_stop)
+        worker_stop();
+    /* The last results out, without spinning. */
+    while (!worker_send(&w))
+        nap(&w.idle);
+    for (size_t k = 0; k < w.n_res; k++)
+        free(w.res[k].buf);
+    free(w.res);
+    free(w.queue);
+    free(w.hand);
+    pthread_mutex_destroy(&w.mu);
 }
 #endif /* RT_HAVE_MPI */
 

@@ -246,7 +246,7 @@ static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0,
 }
 
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
-                        int nthreads, rt_render_poll_fn poll, void *poll_ctx)
+                        int nthreads)
 {
     const uint32_t W = r->p.width;
     const long npix = (long)(y1 - y0) * W;
@@ -272,8 +272,6 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
         if (r->stop && *r->stop)
             continue;
         total += add_pixel(r, fn, y0, s0, s1, i, acc);
-        if (poll && omp_thread() == 0)
-            poll(poll_ctx);
     }
     return total;
 }
@@ -311,7 +309,7 @@ static int stopped(const rt_renderer *r)
  * oldest unit in hand that has pixels left, else from a new unit; waits
  * while every unit is given out and none can be taken. Returns the unit,
  * or NULL when there is nothing more to do. */
-static stream_unit *stream_claim(stream *st, long *a, long *b)
+static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
 {
     for (;;) {
         if (st->status || stopped(st->r))
@@ -325,12 +323,13 @@ static stream_unit *stream_claim(stream *st, long *a, long *b)
             else if (++held, su->next < su->npix && (!best || su->order < best->order))
                 best = su;
         }
-        if (!best && !st->exhausted && empty) {
-            rt_unit u;
-            if (!st->src->take(st->src->ctx, &u)) {
-                st->exhausted = 1;
-                continue;
-            }
+        rt_unit u;
+        int got = 0;
+        if (!best && !st->exhausted && empty && (got = st->src->take(st->src->ctx, &u)) == 0) {
+            st->exhausted = 1;
+            continue;
+        }
+        if (got > 0) {
             size_t need = (size_t)(u.y1 - u.y0) * st->r->p.width * 3;
             if (need > empty->cap) { /* the first units are the largest (schedule.h) */
                 rt_mem_free(empty->buf, empty->cap * sizeof *empty->buf);
@@ -358,25 +357,40 @@ static stream_unit *stream_claim(stream *st, long *a, long *b)
             *b = best->next = best->next + (n < rest ? n : rest);
             return best;
         }
-        if (!held)
-            return NULL; /* nothing in hand and nothing to take: the end */
         if (st->exhausted)
-            return NULL; /* the last units' runs are all given out */
-        pthread_cond_wait(&st->freed, &st->mu);
+            return NULL; /* the last units' runs are all given out (or none is left) */
+        if (master && st->src->poll) {
+            /* the master keeps the source's communication going while it
+             * waits: for a unit, or for a unit in hand to be done */
+            pthread_mutex_unlock(&st->mu);
+            int more = st->src->poll(st->src->ctx, 1);
+            pthread_mutex_lock(&st->mu);
+            if (more)
+                pthread_cond_broadcast(&st->freed);
+        } else {
+            pthread_cond_wait(&st->freed, &st->mu);
+        }
     }
 }
 
 static void stream_thread(stream *st)
 {
     const rt_renderer *r = st->r;
+    const int master = omp_thread() == 0;
     pthread_mutex_lock(&st->mu);
     long a, b;
     stream_unit *su;
-    while ((su = stream_claim(st, &a, &b))) {
+    while ((su = stream_claim(st, master, &a, &b))) {
         pthread_mutex_unlock(&st->mu);
         uint64_t segs = 0;
-        for (long i = a; i < b && !stopped(r); i++)
+        for (long i = a; i < b && !stopped(r); i++) {
             segs += add_pixel(r, st->fn, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
+            if (master && st->src->poll && st->src->poll(st->src->ctx, 0)) {
+                pthread_mutex_lock(&st->mu); /* so that a thread between take and its wait cannot miss it */
+                pthread_cond_broadcast(&st->freed);
+                pthread_mutex_unlock(&st->mu);
+            }
+        }
         pthread_mutex_lock(&st->mu);
         su->segments += segs;
         su->left -= b - a;
@@ -392,6 +406,13 @@ static void stream_thread(stream *st)
             pthread_mutex_lock(&st->mu);
             su->held = 0;
             pthread_cond_broadcast(&st->freed);
+        }
+        if (master && st->src->poll) { /* after done: a result goes out at once */
+            pthread_mutex_unlock(&st->mu);
+            int more = st->src->poll(st->src->ctx, 0);
+            pthread_mutex_lock(&st->mu);
+            if (more) /* under st->mu: a thread between take and its wait cannot miss it */
+                pthread_cond_broadcast(&st->freed);
         }
     }
     pthread_cond_broadcast(&st->freed); /* a waiting thread may have to leave too */

@@ -63,27 +63,29 @@ rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t 
  * returns how many. For timing intersectors on the renderer's own rays. */
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays);
 
-/* Called now and then (between pixels) by the thread that called
- * rt_render_rows, so a caller can keep communication moving while the
- * OpenMP team renders. */
-typedef void (*rt_render_poll_fn)(void *ctx);
-
 /* Adds samples [s0, s1) of rows [y0, y1) to acc, laid out as
  * acc[((y - y0) * width + x) * 3 + channel], using nthreads OpenMP threads
- * (0 = the OpenMP default). poll may be NULL. Returns the ray segments
- * traced. */
+ * (0 = the OpenMP default). Returns the ray segments traced. One block
+ * with a barrier at its end: the farm renders its units with
+ * rt_render_stream instead; this is the tests' and tools' reference. */
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
-                        int nthreads, rt_render_poll_fn poll, void *poll_ctx);
+                        int nthreads);
 
 /* A source of work units for rt_render_stream. take fills *u with the next
- * unit and returns 1, or returns 0 when there are no more (it is not called
- * again then). done receives each finished unit once: its sums, laid out as
+ * unit and returns 1, returns 0 when there are no more (it is not called
+ * again then), or -1 when there is none yet (only with a poll, which brings
+ * them). done receives each finished unit once: its sums, laid out as
  * rt_render_rows' acc (row u->y0 first) and valid only during the call, and
  * the ray segments it took. Each is called by one thread at a time, from
- * any thread of the team; take may run while done does. */
+ * any thread of the team; take may run while done does. poll, when not
+ * NULL, is called by the team's master thread only (the thread that called
+ * rt_render_stream), after each run of pixels it renders and over and over
+ * while it has nothing to render (idle = 1: it may sleep a little); it
+ * returns non-zero when it may have brought units for take. */
 typedef struct rt_render_source {
     int (*take)(void *ctx, rt_unit *u);
     void (*done)(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments);
+    int (*poll)(void *ctx, int idle);
     void *ctx;
 } rt_render_source;
 

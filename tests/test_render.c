@@ -1,5 +1,6 @@
 /* test_render.c - the determinism contract at the core: any split of the
  * work (bands, sample ranges, thread counts) sums to identical bits. */
+#include <pthread.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,6 +21,11 @@ typedef struct source {
     uint64_t segments;
     int done_calls[64], inside, overlapped;
     volatile sig_atomic_t *stop;
+    /* with trickle: units arrive one per 50 polls (as from MPI), and take
+     * says "none yet" (-1) until then; poll must run on caller's thread */
+    int trickle, polls, wrong_thread;
+    uint32_t arrived;
+    pthread_t caller;
 } source;
 
 static int src_take(void *ctx, rt_unit *u)
@@ -29,7 +35,21 @@ static int src_take(void *ctx, rt_unit *u)
         *S->stop = 1;
     if (S->next == S->n)
         return 0;
+    if (S->trickle && S->next == __atomic_load_n(&S->arrived, __ATOMIC_SEQ_CST))
+        return -1;
     *u = S->units[S->next++];
+    return 1;
+}
+
+static int src_poll(void *ctx, int idle)
+{
+    source *S = ctx;
+    (void)idle;
+    if (!pthread_equal(pthread_self(), S->caller))
+        S->wrong_thread = 1;
+    if (++S->polls % 50 || S->arrived == S->n)
+        return 0;
+    __atomic_add_fetch(&S->arrived, 1, __ATOMIC_SEQ_CST);
     return 1;
 }
 
@@ -58,46 +78,52 @@ int main(void)
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     size_t n = (size_t)p.width * p.height * 3;
     int64_t *ref = calloc(n, sizeof *ref), *alt = calloc(n, sizeof *alt);
-    uint64_t segs_ref = rt_render_rows(&r, 0, p.height, 0, p.samples, ref, 1, NULL, NULL);
+    uint64_t segs_ref = rt_render_rows(&r, 0, p.height, 0, p.samples, ref, 1);
     CHECK(segs_ref >= (uint64_t)p.width * p.height * p.samples);
 
     /* Bands of 5 rows, two threads. */
     uint64_t segs = 0;
     for (uint32_t y = 0; y < p.height; y += 5) {
         uint32_t y1 = y + 5 < p.height ? y + 5 : p.height;
-        segs += rt_render_rows(&r, y, y1, 0, p.samples, alt + (size_t)y * p.width * 3, 2, NULL, NULL);
+        segs += rt_render_rows(&r, y, y1, 0, p.samples, alt + (size_t)y * p.width * 3, 2);
     }
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
     CHECK_EQ_U64(segs, segs_ref);
 
     /* Sample ranges 0-1, 1-4, 4-6 added in a scrambled order. */
     memset(alt, 0, n * sizeof *alt);
-    rt_render_rows(&r, 0, p.height, 4, 6, alt, 2, NULL, NULL);
-    rt_render_rows(&r, 0, p.height, 0, 1, alt, 1, NULL, NULL);
-    rt_render_rows(&r, 0, p.height, 1, 4, alt, 3, NULL, NULL);
+    rt_render_rows(&r, 0, p.height, 4, 6, alt, 2);
+    rt_render_rows(&r, 0, p.height, 0, 1, alt, 1);
+    rt_render_rows(&r, 0, p.height, 1, 4, alt, 3);
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
 
     /* A stream of units of every shape (rows, sample ranges, one row, the
      * largest first, as the schedule hands them out): each unit done once,
      * one done call at a time, the same image and segments for any thread
-     * count (more threads than units in hand included). */
+     * count (more threads than units in hand included). With trickle, the
+     * units arrive only as the master thread polls (a worker's come by MPI)
+     * and the other threads wait for them. */
     const rt_unit units[] = {{0, 0, 9, 0, 6},   {1, 9, 15, 0, 2}, {2, 9, 15, 2, 6}, {3, 15, 16, 0, 6},
                              {4, 16, 20, 0, 6}, {5, 20, 22, 0, 5}, {6, 22, 24, 0, 6}, {7, 20, 22, 5, 6}};
     const uint32_t n_units = sizeof units / sizeof units[0];
-    for (int threads = 1; threads <= 5; threads++) {
-        memset(alt, 0, n * sizeof *alt);
-        source S = {units, n_units, 0, 0, p.width, alt, 0, {0}, 0, 0, NULL};
-        rt_render_source src = {src_take, src_done, &S};
-        CHECK_EQ_INT(rt_render_stream(&r, threads, &src), RT_OK);
-        CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
-        CHECK_EQ_U64(S.segments, segs_ref);
-        int once = 1;
-        for (uint32_t k = 0; k < n_units; k++)
-            once &= S.done_calls[k] == 1;
-        CHECK(once);
-        CHECK_EQ_INT(S.overlapped, 0);
-        CHECK_EQ_INT(S.next, n_units);
-    }
+    for (int trickle = 0; trickle <= 1; trickle++)
+        for (int threads = 1; threads <= 5; threads++) {
+            memset(alt, 0, n * sizeof *alt);
+            source S = {.units = units, .n = n_units, .width = p.width, .acc = alt, .trickle = trickle,
+                        .caller = pthread_self()};
+            rt_render_source src = {src_take, src_done, trickle ? src_poll : NULL, &S};
+            CHECK_EQ_INT(rt_render_stream(&r, threads, &src), RT_OK);
+            CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
+            CHECK_EQ_U64(S.segments, segs_ref);
+            int once = 1;
+            for (uint32_t k = 0; k < n_units; k++)
+                once &= S.done_calls[k] == 1;
+            CHECK(once);
+            CHECK_EQ_INT(S.overlapped, 0);
+            CHECK_EQ_INT(S.next, n_units);
+            CHECK_EQ_INT(S.wrong_thread, 0);
+            CHECK(S.polls >= (trickle ? 50 * (int)n_units : 0));
+        }
     /* A stop drops the units in hand: the unit taken as it came is never
      * done, nothing is taken after it, and a unit done before it is whole
      * (unit 0: its rows as in ref). */
@@ -106,8 +132,8 @@ int main(void)
         rt_renderer rs = r;
         rs.stop = &stop;
         memset(alt, 0, n * sizeof *alt);
-        source S = {units, n_units, 0, 3, p.width, alt, 0, {0}, 0, 0, &stop};
-        rt_render_source src = {src_take, src_done, &S};
+        source S = {.units = units, .n = n_units, .stop_at = 3, .width = p.width, .acc = alt, .stop = &stop};
+        rt_render_source src = {src_take, src_done, NULL, &S};
         CHECK_EQ_INT(rt_render_stream(&rs, threads, &src), RT_OK);
         CHECK_EQ_INT(stop, 1);
         CHECK_EQ_INT(S.next, 4); /* unit 3 was taken as the stop came, none after */
@@ -122,7 +148,7 @@ int main(void)
     rt_renderer rb;
     CHECK_EQ_INT(rt_render_init(&rb, &s, brute, &p), RT_OK);
     memset(alt, 0, n * sizeof *alt);
-    rt_render_rows(&rb, 0, p.height, 0, p.samples, alt, 2, NULL, NULL);
+    rt_render_rows(&rb, 0, p.height, 0, p.samples, alt, 2);
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
 
     /* A different seed gives a different image. */
@@ -131,7 +157,7 @@ int main(void)
     rt_renderer r2;
     CHECK_EQ_INT(rt_render_init(&r2, &s, a, &q), RT_OK);
     memset(alt, 0, n * sizeof *alt);
-    rt_render_rows(&r2, 0, p.height, 0, p.samples, alt, 1, NULL, NULL);
+    rt_render_rows(&r2, 0, p.height, 0, p.samples, alt, 1);
     CHECK(memcmp(ref, alt, n * sizeof *ref) != 0);
 
     /* The rays a sample traces (bench_accel's input): as many as the
