@@ -48,11 +48,11 @@ int rt_bvh_closest_portable(const rt_bvh *b, const rt_ray *ray, double tmin, dou
 int rt_bvh_uses_avx(const rt_bvh *b);
 #if RT_BVH_HAVE_AVX
 /* The AVX traversal on its own, for code compiled for AVX to inline
- * (rt_render_rows); only when rt_bvh_uses_avx. */
+ * (render.c's path loop); only when rt_bvh_uses_avx. */
 __attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax,
                                                       rt_hit *hit);
 /* rt_bvh_closest_packet's AVX traversal, for code compiled for AVX
- * (rt_render_rows' camera rays); only when rt_bvh_uses_avx. */
+ * (render.c's path loop: camera rays and full groups); only when rt_bvh_uses_avx. */
 __attribute__((target("avx"))) int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n,
                                                              double tmin, double tmax, rt_hit *hits);
 #endif

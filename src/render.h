@@ -44,11 +44,12 @@ typedef struct rt_renderer {
     const rt_accel *accel;
     rt_camera camera;
     rt_render_params p;
-    /* When set and *stop becomes non-zero (a signal), rt_render_rows skips
-     * the remaining pixels; the caller then discards the unit. */
+    /* When set and *stop becomes non-zero (a signal), rendering skips the
+     * remaining pixels: rt_render_stream drops the units in hand, and the
+     * caller of rt_render_rows discards its block. */
     const volatile sig_atomic_t *stop;
     /* Our BVH when it runs the AVX box test (rt_accel_bvh_avx), else NULL:
-     * rt_render_rows then runs its copy of the path loop compiled for AVX,
+     * the renderer then runs its copy of the path loop compiled for AVX,
      * with the AVX traversal inlined. */
     const struct rt_bvh *bvh_avx;
 } rt_renderer;
