@@ -229,6 +229,11 @@ __attribute__((target("avx"), flatten)) static uint64_t pixel_avx(const rt_rende
 }
 #endif
 
+static int stopped(const rt_renderer *r)
+{
+    return r->stop && *r->stop;
+}
+
 /* Pixel i of a block of rows from y0: its samples [s0, s1) added to
  * acc[3 i ..]; returns the ray segments traced. */
 static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0, uint32_t s0, uint32_t s1, long i,
@@ -268,11 +273,9 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
      * per 8 pixels, and the two threads' pixels interleaved): -j 2 1.015
      * faster (scripts/ab_render.sh, 9 rounds, at 16 and at 32 spp). */
 #pragma omp parallel for schedule(guided, 4) reduction(+ : total) num_threads(nthreads) if (nthreads > 1)
-    for (long i = 0; i < npix; i++) {
-        if (r->stop && *r->stop)
-            continue;
-        total += add_pixel(r, fn, y0, s0, s1, i, acc);
-    }
+    for (long i = 0; i < npix; i++)
+        if (!stopped(r))
+            total += add_pixel(r, fn, y0, s0, s1, i, acc);
     return total;
 }
 
@@ -299,11 +302,6 @@ typedef struct stream {
     stream_unit units[RT_RENDER_STREAM_UNITS];
     int n_units;
 } stream;
-
-static int stopped(const rt_renderer *r)
-{
-    return r->stop && *r->stop;
-}
 
 /* The next run of pixels for the calling thread, under st->mu: from the
  * oldest unit in hand that has pixels left, else from a new unit; waits
@@ -385,6 +383,9 @@ static void stream_thread(stream *st)
         uint64_t segs = 0;
         for (long i = a; i < b && !stopped(r); i++) {
             segs += add_pixel(r, st->fn, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
+            /* the master polls after every pixel (the source decides how
+             * often to really look), and so right after a unit is done:
+             * its next pixel, or its idle poll in stream_claim */
             if (master && st->src->poll && st->src->poll(st->src->ctx, 0)) {
                 pthread_mutex_lock(&st->mu); /* so that a thread between take and its wait cannot miss it */
                 pthread_cond_broadcast(&st->freed);
@@ -406,13 +407,6 @@ static void stream_thread(stream *st)
             pthread_mutex_lock(&st->mu);
             su->held = 0;
             pthread_cond_broadcast(&st->freed);
-        }
-        if (master && st->src->poll) { /* after done: a result goes out at once */
-            pthread_mutex_unlock(&st->mu);
-            int more = st->src->poll(st->src->ctx, 0);
-            pthread_mutex_lock(&st->mu);
-            if (more) /* under st->mu: a thread between take and its wait cannot miss it */
-                pthread_cond_broadcast(&st->freed);
         }
     }
     pthread_cond_broadcast(&st->freed); /* a waiting thread may have to leave too */
