@@ -38,13 +38,20 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
-/* The camera ray of one sample, drawn from the start of the sample's RNG
- * stream, which *rng is left at for the rest of its path. */
+/* The RNG key of pixel (x, y), shared by its samples. */
+static inline uint64_t pixel_key(const rt_renderer *r, uint32_t x, uint32_t y)
+{
+    return rt_rng_pixel_key(r->p.seed, (uint64_t)y * r->p.width + x);
+}
+
+/* The camera ray of one sample of pixel (x, y) (key: pixel_key), drawn from
+ * the start of the sample's RNG stream, which *rng is left at for the rest
+ * of its path. */
 static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer *r, uint32_t x, uint32_t y,
-                                                               uint32_t sample, rt_rng *rng)
+                                                               uint64_t key, uint32_t sample, rt_rng *rng)
 {
     const uint32_t W = r->p.width, H = r->p.height;
-    *rng = rt_rng_for_sample(r->p.seed, (uint64_t)y * W + x, sample);
+    *rng = rt_rng_for_pixel_sample(key, sample);
     /* The seed renderer's mapping: v counts rows from the bottom. */
     double u = ((double)x + rt_rng_double(rng)) / (double)(W > 1 ? W - 1 : 1);
     double v = ((double)(H - 1 - y) + rt_rng_double(rng)) / (double)(H > 1 ? H - 1 : 1);
@@ -121,7 +128,7 @@ static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_rendere
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
     rt_rng rng;
-    rt_ray ray = camera_ray(r, x, y, sample, &rng);
+    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
     return trace_path(r, ray, &rng, segments, NULL);
 }
 
@@ -129,7 +136,7 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
 {
     uint64_t segs = 0;
     rt_rng rng;
-    rt_ray ray = camera_ray(r, x, y, sample, &rng);
+    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
     trace_path(r, ray, &rng, &segs, rays);
     return (uint32_t)segs;
 }
@@ -148,6 +155,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
 {
     int64_t acc[3] = {0, 0, 0}; /* a local, kept in registers */
     uint64_t segs = 0;
+    const uint64_t key = pixel_key(r, x, y);
 #if RT_BVH_HAVE_AVX
     if (avx) {
         /* PACKET samples at a time, their paths advanced a segment each
@@ -167,7 +175,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             rt_hit hit[PACKET];
             rt_vec3 thr[PACKET], col[PACKET];
             for (int k = 0; k < n; k++) {
-                ray[k] = camera_ray(r, x, y, s + (uint32_t)k, &rng[k]);
+                ray[k] = camera_ray(r, x, y, key, s + (uint32_t)k, &rng[k]);
                 thr[k] = rt_v3(1, 1, 1);
                 col[k] = rt_v3(0, 0, 0);
             }
@@ -198,7 +206,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
 #endif
         for (uint32_t s = s0; s < s1; s++) {
             rt_rng rng;
-            rt_ray cam = camera_ray(r, x, y, s, &rng);
+            rt_ray cam = camera_ray(r, x, y, key, s, &rng);
             add_fixed(acc, trace_path(r, cam, &rng, &segs, NULL));
         }
     sum[0] = acc[0];

@@ -31,14 +31,25 @@ static inline uint64_t rt_rng_mix(uint64_t z)
 
 #define RT_RNG_GAMMA UINT64_C(0x9e3779b97f4a7c15)
 
-/* Stream for one sample of one pixel. pixel = y * width + x in image space. */
+/* The part of a sample's key shared by all samples of one pixel
+ * (pixel = y * width + x in image space): the renderer computes it once
+ * per pixel. */
+static inline uint64_t rt_rng_pixel_key(uint64_t seed, uint64_t pixel)
+{
+    return rt_rng_mix(rt_rng_mix(seed ^ UINT64_C(0x243f6a8885a308d3)) ^ (pixel * RT_RNG_GAMMA));
+}
+
+/* Stream for one sample of the pixel whose key is pixel_key. */
+static inline rt_rng rt_rng_for_pixel_sample(uint64_t pixel_key, uint64_t sample)
+{
+    rt_rng r = {rt_rng_mix(pixel_key ^ (sample * UINT64_C(0xd1b54a32d192ed03)) ^ UINT64_C(0x13198a2e03707344))};
+    return r;
+}
+
+/* Stream for one sample of one pixel. */
 static inline rt_rng rt_rng_for_sample(uint64_t seed, uint64_t pixel, uint64_t sample)
 {
-    uint64_t h = rt_rng_mix(seed ^ UINT64_C(0x243f6a8885a308d3));
-    h = rt_rng_mix(h ^ (pixel * RT_RNG_GAMMA));
-    h = rt_rng_mix(h ^ (sample * UINT64_C(0xd1b54a32d192ed03)) ^ UINT64_C(0x13198a2e03707344));
-    rt_rng r = {h};
-    return r;
+    return rt_rng_for_pixel_sample(rt_rng_pixel_key(seed, pixel), sample);
 }
 
 /* Stream for a named purpose (scene construction, tests). */
