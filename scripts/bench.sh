@@ -99,9 +99,9 @@ if [ -x "$EMBREE_BIN" ]; then
     echo "  bvh / embree (1 thread, same build):     $(ratio "${RATE[bvh (embree build) -j 1]}" "${RATE[embree -j 1]}")"
 fi
 echo "  -j 2 / -j 1:                             $(ratio "${RATE[bvh -j 2]}" "${RATE[bvh -j 1]}")"
-# A render of a third of a second loses a few per cent to starting the
-# second thread (on this VM the first bands of a -j 2 run take up to 8x
-# longer: see README); the same scaling over a render four times as long:
+# A render of a third of a second loses most to the second thread starting
+# late or the VM stopping both for a few ms (see README); the same scaling
+# over a render four times as long:
 echo "  -j 2 / -j 1, 4x the samples:             $(ratio "${RATE[bvh -j 2, 4x spp]}" "${RATE[bvh -j 1, 4x spp]}")"
 # What this machine gives two renders that share nothing: the ceiling of
 # -j 2 / -j 1 here (shared VMs and clocks that drop with load keep it below 2).

@@ -24,6 +24,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -457,6 +458,32 @@ static void interrupted(const rt_farm *f, shared *S)
     rt_farm_exit(f, RT_EXIT_INTERRUPTED);
 }
 
+/* A unit's place in the rank's busy time and trace: units overlap in a
+ * stream, so each counts from when it was taken or the previous unit was
+ * done, whichever is later, and every moment counts once. *last is when the
+ * previous unit was done; it becomes end. */
+static double unit_start(double taken, double *last, double end)
+{
+    double start = taken > *last ? taken : *last;
+    *last = end;
+    return start;
+}
+
+/* --empty-units (a benchmark of the farm itself): the zero sums of an
+ * n-entry unit, from a buffer that grows to the largest unit; NULL when out
+ * of memory. */
+static const int64_t *zero_sums(int64_t **buf, size_t *cap, size_t n)
+{
+    if (n > *cap) {
+        free(*buf);
+        *cap = 0;
+        if (!(*buf = calloc(n, sizeof **buf)))
+            return NULL;
+        *cap = n;
+    }
+    return *buf;
+}
+
 /* Rank 0's own rendering (all of it when there is no server): units from
  * the shared queue, rendered as one stream (rt_render_stream) so that its
  * threads never wait for each other between units. */
@@ -475,16 +502,12 @@ static int local_take(void *ctx, rt_unit *u)
     return 1;
 }
 
-/* Units overlap in a stream; each is timed from when it was taken or the
- * previous one was done, whichever is later, so that the rank's busy time
- * (and its trace) counts every moment once. */
 static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     local *L = ctx;
     shared *S = L->S;
-    double end = rt_now() - S->t0, start = L->taken[u->id] > L->last ? L->taken[u->id] : L->last;
-    L->last = end;
-    add_result(S, 0, u, sums, segs, start, end);
+    double end = rt_now() - S->t0;
+    add_result(S, 0, u, sums, segs, unit_start(L->taken[u->id], &L->last, end), end);
     if (S->serial) {
         const rt_farm_job *job = S->job;
         if (job->progress)
@@ -494,27 +517,22 @@ static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_
     }
 }
 
-/* --empty-units (farm tests): every unit adds nothing, without rendering. */
+/* --empty-units: every unit adds nothing, without rendering. */
 static void empty_loop(shared *S)
 {
     int64_t *zero = NULL;
     size_t cap = 0;
     rt_unit u;
     while (take_unit(S, &u)) {
-        size_t n = (size_t)(u.y1 - u.y0) * S->W * 3;
-        if (n > cap) {
-            free(zero);
-            cap = 0;
-            if (!(zero = calloc(n, sizeof *zero))) {
-                pthread_mutex_lock(&S->mu);
-                S->error = RT_ENOMEM;
-                pthread_mutex_unlock(&S->mu);
-                break;
-            }
-            cap = n;
+        const int64_t *sums = zero_sums(&zero, &cap, (size_t)(u.y1 - u.y0) * S->W * 3);
+        if (!sums) {
+            pthread_mutex_lock(&S->mu);
+            S->error = RT_ENOMEM;
+            pthread_mutex_unlock(&S->mu);
+            break;
         }
         double t = rt_now() - S->t0;
-        add_result(S, 0, &u, zero, 0, t, t);
+        add_result(S, 0, &u, sums, 0, t, t);
     }
     free(zero);
 }
@@ -710,7 +728,9 @@ typedef struct worker {
     pthread_mutex_t mu;
     rt_unit *queue; /* received, not yet taken */
     in_hand *hand;  /* taken, not yet done: when each was taken */
-    int depth, qhead, qlen, finished, idle, ready, failed;
+    int depth, qhead, qlen, finished, idle, failed;
+    atomic_int ready; /* a result waits to be sent (set by done, read by poll without mu) */
+    int calls, stride; /* poll: calls since it last read the clock, and every how many it does */
     result *res;
     size_t n_res, cap_res;
 } worker;
@@ -734,20 +754,21 @@ static int worker_take(void *ctx, rt_unit *u)
     return got;
 }
 
-/* A finished unit: into a free result buffer, ready for poll to send. Its
- * time is counted from when it was taken or the previous unit was done,
- * whichever is later (units overlap in the stream). */
+/* A finished unit: copied into a free result buffer (the stream reuses its
+ * own at once, and MPI_Isend needs the data until the send completes),
+ * ready for poll to send. */
 static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     worker *w = ctx;
     const size_t n = HDR + (size_t)(u->y1 - u->y0) * w->job->renderer->p.width * 3;
-    double end = rt_now() - w->t_start, start = w->last_end;
+    double end = rt_now() - w->t_start, taken = 0;
     pthread_mutex_lock(&w->mu);
     for (int k = 0; k < w->depth; k++)
         if (w->hand[k].used && w->hand[k].id == u->id) {
-            start = w->hand[k].taken > start ? w->hand[k].taken : start;
+            taken = w->hand[k].taken;
             w->hand[k].used = 0;
         }
+    const double start = unit_start(taken, &w->last_end, end);
     result *r = NULL;
     for (size_t k = 0; k < w->n_res && !r; k++)
         if (w->res[k].state == RES_FREE)
@@ -772,10 +793,9 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
         memcpy(r->buf + HDR, sums, (n - HDR) * sizeof *sums);
         r->len = n;
         r->state = RES_READY;
-        w->ready = 1;
+        atomic_store(&w->ready, 1);
     }
     pthread_mutex_unlock(&w->mu);
-    w->last_end = end;
     rt_rank_stats *me = w->me;
     me->units++;
     me->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / w->job->renderer->p.samples;
@@ -807,20 +827,33 @@ static int worker_send(worker *w)
                 all = 0;
         }
     }
-    w->ready = 0;
+    atomic_store(&w->ready, 0);
     pthread_mutex_unlock(&w->mu);
     return all;
 }
 
-/* The stream's poll: the worker's MPI, on its main thread. Results go out
- * at once; otherwise, while rendering, it looks for messages every 100 us
- * at most. Idle, it sleeps (nap) when nothing came. */
+/* The stream's poll, after every pixel of the master thread: the worker's
+ * MPI, on its main thread. Results go out at once; otherwise, while
+ * rendering, it looks for messages about every 100 us. Reading the clock
+ * costs about 30 ns here, and a pixel at 1 spp about 200 ns, so it reads it
+ * only every w->stride calls, the stride doubled or halved to keep the
+ * reads 50 to 200 us apart. Idle, it sleeps (nap) when nothing came. */
 static int worker_poll(void *ctx, int idle)
 {
     worker *w = ctx;
-    double t0 = rt_now();
-    if (!idle && !w->ready && t0 - w->last_poll < 1e-4)
+    if (!idle && !atomic_load(&w->ready) && ++w->calls < w->stride)
         return 0;
+    w->calls = 0;
+    double t0 = rt_now();
+    if (!idle && !atomic_load(&w->ready)) {
+        double since = t0 - w->last_poll;
+        if (since < 50e-6 && w->stride < (1 << 16))
+            w->stride *= 2;
+        else if (since > 200e-6 && w->stride > 1)
+            w->stride /= 2;
+        if (since < 1e-4)
+            return 0;
+    }
     w->last_poll = t0;
     worker_send(w);
     int got = 0;
@@ -877,6 +910,8 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, do
     w.me = me;
     w.t_start = t_start;
     w.depth = job->prefetch > 0 ? job->prefetch : 2;
+    w.stride = 1;
+    atomic_init(&w.ready, 0);
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)
@@ -891,14 +926,17 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, do
         rt_farm_fail(f, 1, "cannot reach rank 0");
     if (job->empty_units) {
         /* --empty-units: every unit adds nothing, without rendering */
-        int64_t *zero = calloc((size_t)job->renderer->p.height * job->renderer->p.width * 3, sizeof *zero);
-        if (!zero)
-            rt_farm_fail(f, 1, "out of memory for work buffers");
+        int64_t *zero = NULL;
+        size_t cap = 0;
         rt_unit u;
         int got;
         while (!g_stop && (got = worker_take(&w, &u)) != 0) {
-            if (got > 0)
-                worker_done(&w, &u, zero, 0);
+            if (got > 0) {
+                const int64_t *sums = zero_sums(&zero, &cap, (size_t)(u.y1 - u.y0) * job->renderer->p.width * 3);
+                if (!sums)
+                    rt_farm_fail(f, 1, "out of memory for work buffers");
+                worker_done(&w, &u, sums, 0);
+            }
             worker_poll(&w, got < 0);
         }
         free(zero);

@@ -276,10 +276,7 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
     (void)nthreads;
 #endif
     /* guided: each thread starts on a long run of neighbouring pixels and
-     * the runs shrink (to 4 pixels) towards the end of the band, which stays
-     * balanced. Against dynamic chunks of 8 pixels (one shared-counter update
-     * per 8 pixels, and the two threads' pixels interleaved): -j 2 1.015
-     * faster (scripts/ab_render.sh, 9 rounds, at 16 and at 32 spp). */
+     * the runs shrink (to 4 pixels) towards the end of the block. */
 #pragma omp parallel for schedule(guided, 4) reduction(+ : total) num_threads(nthreads) if (nthreads > 1)
     for (long i = 0; i < npix; i++)
         if (!stopped(r))
@@ -321,12 +318,11 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
         if (st->status || stopped(st->r))
             return NULL;
         stream_unit *best = NULL, *empty = NULL;
-        int held = 0;
         for (int k = 0; k < st->n_units; k++) {
             stream_unit *su = &st->units[k];
             if (!su->held)
                 empty = empty ? empty : su;
-            else if (++held, su->next < su->npix && (!best || su->order < best->order))
+            else if (su->next < su->npix && (!best || su->order < best->order))
                 best = su;
         }
         rt_unit u;
@@ -356,7 +352,9 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
         }
         if (best) {
             /* guided: runs shrink as the unit's pixels run out, so its
-             * last runs are short; neighbours stay on one thread */
+             * last runs are short; neighbours stay on one thread. (Runs of
+             * rest / threads, OpenMP's guided rule: ab_render.sh -j 2 0.993,
+             * no difference.) */
             long rest = best->npix - best->next, n = rest / (2 * st->threads);
             n = n < 4 ? 4 : n;
             *a = best->next;

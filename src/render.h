@@ -68,7 +68,7 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
  * acc[((y - y0) * width + x) * 3 + channel], using nthreads OpenMP threads
  * (0 = the OpenMP default). Returns the ray segments traced. One block
  * with a barrier at its end: the farm renders its units with
- * rt_render_stream instead; this is the tests' and tools' reference. */
+ * rt_render_stream instead; the tests compare it with this. */
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads);
 
@@ -80,9 +80,10 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
  * the ray segments it took. Each is called by one thread at a time, from
  * any thread of the team; take may run while done does. poll, when not
  * NULL, is called by the team's master thread only (the thread that called
- * rt_render_stream), after each run of pixels it renders and over and over
- * while it has nothing to render (idle = 1: it may sleep a little); it
- * returns non-zero when it may have brought units for take. */
+ * rt_render_stream), after each pixel it renders (it must return quickly
+ * when it has nothing to do) and over and over while it has nothing to
+ * render (idle = 1: it may sleep a little); it returns non-zero when it
+ * may have brought units for take. */
 typedef struct rt_render_source {
     int (*take)(void *ctx, rt_unit *u);
     void (*done)(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments);
