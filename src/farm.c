@@ -361,7 +361,9 @@ static size_t snapshot_len(const shared *S)
 
 /* A consistent copy of the committed counts and sums, taken under the lock
  * (other threads keep adding to S->acc). for_checkpoint marks the state as
- * saved. Release *acc with rt_mem_free. */
+ * saved. The copy's pages are mapped up front (rt_mem_zeroed), so the copy
+ * under the lock does not fault them in while the other threads wait for
+ * it. Release *acc with rt_mem_free. */
 static int snapshot(shared *S, int for_checkpoint, uint32_t **committed, int64_t **acc)
 {
     size_t H = S->sched.height, n = snapshot_len(S);
