@@ -786,16 +786,20 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
         r = &w->res[w->n_res++];
         *r = (result){NULL, 0, 0, MPI_REQUEST_NULL, RES_FREE};
     }
-    if (r)
-        r->state = RES_FILLING;
+    if (!r) {
+        w->failed = 1; /* poll ends the job: only the main thread may */
+        pthread_mutex_unlock(&w->mu);
+        return;
+    }
+    r->state = RES_FILLING;
     pthread_mutex_unlock(&w->mu);
-    if (r && n > r->cap) {
+    if (n > r->cap) {
         free(r->buf);
         r->cap = 0;
         if ((r->buf = malloc(n * sizeof *r->buf)))
             r->cap = n;
     }
-    if (r && r->buf) {
+    if (r->buf) {
         r->buf[0] = u->id;
         r->buf[1] = (int64_t)segs;
         r->buf[2] = (int64_t)(start * 1e9);
@@ -804,13 +808,12 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
         r->len = n;
     }
     pthread_mutex_lock(&w->mu);
-    if (!r || !r->buf) {
-        w->failed = 1; /* poll ends the job: only the main thread may */
-        if (r)
-            r->state = RES_FREE;
-    } else {
+    if (r->buf) {
         r->state = RES_READY;
         atomic_store(&w->ready, 1);
+    } else {
+        r->state = RES_FREE;
+        w->failed = 1;
     }
     pthread_mutex_unlock(&w->mu);
     rt_rank_stats *me = w->me;
@@ -821,7 +824,9 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
 }
 
 /* Sends the results that are ready and completes the sends that are done;
- * returns 1 when every result has gone out. Main thread only. */
+ * returns 1 when every result ready or sending has gone out (one still
+ * being filled is not counted: the final drain runs after the stream has
+ * ended, when none is). Main thread only. */
 static int worker_send(worker *w)
 {
     pthread_mutex_lock(&w->mu);
