@@ -197,7 +197,7 @@ static int build_rec(builder *B, uint32_t start, uint32_t count, int depth)
     B->n[id].left = B->n[id].right = -1;
     B->n[id].start = start;
     B->n[id].count = count;
-    if (count <= (LEAF_MAX < 2 ? LEAF_MAX : 2)) /* a leaf without asking the SAH */
+    if (count <= 1)
         return id;
 
     /* Binned SAH over the longest-extent axes: try all three. */
