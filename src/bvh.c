@@ -44,6 +44,8 @@
 #ifndef LEAF_MAX
 #define LEAF_MAX 1
 #endif
+/* A leaf's child code keeps count - 1 in 4 bits (emit_leaf). */
+_Static_assert(LEAF_MAX >= 1 && LEAF_MAX <= 16, "LEAF_MAX must be 1 to 16");
 #ifndef TRAV_COST
 #define TRAV_COST 1.0
 #endif
@@ -250,33 +252,28 @@ static int build_rec(builder *B, uint32_t start, uint32_t count, int depth)
     double split_cost = box_area(&b) * TRAV_COST + best_cost;
     if (depth > 48)
         best_axis = -1; /* degenerate input: fall back to median splits */
-    if (best_axis < 0 || (count <= LEAF_MAX && leaf_cost <= split_cost)) {
-        if (count <= LEAF_MAX || best_axis < 0) {
-            if (count > LEAF_MAX) { /* all centroids equal: split in the middle */
-                uint32_t half = count / 2;
-                int l = build_rec(B, start, half, depth + 1);
-                int r = build_rec(B, start + half, count - half, depth + 1);
-                B->n[id].left = l;
-                B->n[id].right = r;
+    if (count <= LEAF_MAX && (best_axis < 0 || leaf_cost <= split_cost))
+        return id;
+    /* Without an axis to split on (all centroids equal, or too deep), and
+     * when a side would be empty: halves. */
+    uint32_t nl = 0;
+    if (best_axis >= 0) {
+        double lo = cb.lo[best_axis], scale = BINS / (cb.hi[best_axis] - cb.lo[best_axis]);
+        uint32_t i = start, j = start + count;
+        while (i < j) {
+            uint32_t p = B->order[i];
+            int k = (int)((B->cent[p][best_axis] - lo) * scale);
+            k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
+            if (k <= best_split) {
+                i++;
+            } else {
+                j--;
+                B->order[i] = B->order[j];
+                B->order[j] = p;
             }
-            return id;
         }
+        nl = i - start;
     }
-    double lo = cb.lo[best_axis], scale = BINS / (cb.hi[best_axis] - cb.lo[best_axis]);
-    uint32_t i = start, j = start + count;
-    while (i < j) {
-        uint32_t p = B->order[i];
-        int k = (int)((B->cent[p][best_axis] - lo) * scale);
-        k = k < 0 ? 0 : k >= BINS ? BINS - 1 : k;
-        if (k <= best_split) {
-            i++;
-        } else {
-            j--;
-            B->order[i] = B->order[j];
-            B->order[j] = p;
-        }
-    }
-    uint32_t nl = i - start;
     if (nl == 0 || nl == count)
         nl = count / 2;
     int l = build_rec(B, start, nl, depth + 1);

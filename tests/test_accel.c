@@ -23,8 +23,20 @@ static rt_vec3 rnd_dir(rt_rng *r)
     }
 }
 
+/* The core's leaf size: 1 unless it was built with another LEAF_MAX (the
+ * test_accel_leaf4 build), which makes the traversals' leaves of several
+ * spheres run here too. */
+#ifdef LEAF_MAX
+#define LEAF_MAX_TEST LEAF_MAX
+#else
+#define LEAF_MAX_TEST 1
+#endif
+
 static long mismatches, rays, hits;
-static int scenes_outside; /* random scenes in which the tree leaves spheres out */
+static int scenes_outside;      /* random scenes in which the tree leaves spheres out */
+#if LEAF_MAX_TEST > 1
+static int scenes_multi_leaves; /* scenes with leaves of several spheres */
+#endif
 
 /* One intersector's answer against brute force's: the same sphere and the
  * same t to the bit, even in an exact tie (the lower index wins it,
@@ -264,6 +276,16 @@ int main(void)
                 compare_packet(rt_accel_bvh(bvh), brute, bundle, 8, tmin);
             }
         }
+        { /* leaves of one sphere each, unless built with larger leaves */
+            int nodes, leaves, depth;
+            rt_bvh_stats(rt_accel_bvh(bvh), &nodes, &leaves, &depth);
+            int in_tree = (int)s.n_spheres - outside;
+#if LEAF_MAX_TEST > 1
+            scenes_multi_leaves += leaves < in_tree;
+#else
+            CHECK_EQ_INT(leaves, in_tree);
+#endif
+        }
         if (scene_i == 0) { /* the structure built on its own, without the front end */
             int nodes, leaves, depth;
             rt_bvh *b;
@@ -285,7 +307,13 @@ int main(void)
     rt_ray ray = {rt_v3(0, 0, 0), rt_v3(1, 0, 0)};
     rt_hit h;
     CHECK_EQ_INT(rt_accel_closest(eb, &ray, 0.001, INFINITY, &h), 0);
-    check_counts();
+#if LEAF_MAX_TEST > 1
+    printf("leaves of up to %d spheres: %d scenes with leaves of several\n", LEAF_MAX_TEST, scenes_multi_leaves);
+    CHECK(scenes_multi_leaves > 0);
+    (void)check_counts; /* its tree is the one of one-sphere leaves */
+#else
+    check_counts(); /* its tree is the one of one-sphere leaves */
+#endif
     check_outside();
     printf("%ld rays, %ld hits, %ld mismatches; counted: %" PRIu64 " nodes, %" PRIu64 " sphere tests; "
            "random scenes with spheres outside the tree: %d; box tests bvh (%s), bvh-sse, bvh-scalar; "
