@@ -34,11 +34,11 @@ int rt_camera_init(rt_camera *cam, const rt_camera_desc *d, double aspect)
     return RT_OK;
 }
 
-rt_ray rt_camera_ray(const rt_camera *cam, double s, double t, rt_rng *r)
+rt_ray rt_camera_ray_lens(const rt_camera *cam, double s, double t, double lx, double ly)
 {
     rt_vec3 offset = rt_v3(0, 0, 0);
     if (cam->lens_radius > 0.0) {
-        rt_vec3 rd = rt_v3_scale(rt_sample_in_unit_disk(r), cam->lens_radius);
+        rt_vec3 rd = rt_v3_scale(rt_v3(lx, ly, 0.0), cam->lens_radius);
         offset = rt_v3_add(rt_v3_scale(cam->u, rd.x), rt_v3_scale(cam->v, rd.y));
     }
     rt_ray ray;
@@ -47,4 +47,13 @@ rt_ray rt_camera_ray(const rt_camera *cam, double s, double t, rt_rng *r)
                                rt_v3_scale(cam->vertical, t));
     ray.dir = rt_v3_sub(rt_v3_sub(target, cam->origin), offset);
     return ray;
+}
+
+rt_ray rt_camera_ray(const rt_camera *cam, double s, double t, rt_rng *r)
+{
+    if (cam->lens_radius > 0.0) {
+        rt_vec3 d = rt_sample_in_unit_disk(r);
+        return rt_camera_ray_lens(cam, s, t, d.x, d.y);
+    }
+    return rt_camera_ray_lens(cam, s, t, 0.0, 0.0);
 }

@@ -15,6 +15,7 @@
 #include "image_io.h"
 #include "material.h"
 #include "mem.h"
+#include "primary.h"
 #include "progress.h"
 #include "report.h"
 #include "render.h"
@@ -263,6 +264,15 @@ int main(int argc, char **argv)
     if (st)
         rt_farm_fail(&farm, EXIT_USAGE, "camera: %s", rt_status_str(st));
     renderer.stop = rt_farm_stop_flag();
+    /* Our BVH also gets candidate lists for the camera rays (brute force and
+     * Embree stay as they are: the oracle and the comparison). */
+    rt_primary *primary = NULL;
+    if (rt_accel_bvh(accel)) {
+        st = rt_primary_build(&primary, &scene, &renderer.camera, opt.width, opt.height);
+        if (st)
+            rt_farm_fail(&farm, EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
+        renderer.primary = primary;
+    }
 
     rt_farm_job job;
     memset(&job, 0, sizeof job);
@@ -388,7 +398,13 @@ int main(int argc, char **argv)
                box_test ? " box test, " : "");
         if (renderer.bvh_avx)
             printf("packets of %d rays, ", RT_RENDER_PACKET);
-        printf("%.0f KiB)\n", rt_accel_bytes(accel) / 1024.0);
+        if (primary) {
+            uint32_t tiles, listed;
+            size_t cand;
+            rt_primary_stats(primary, &tiles, &listed, &cand);
+            printf("camera-ray lists on %u of %u tiles, ", listed, tiles);
+        }
+        printf("%.0f KiB)\n", (rt_accel_bytes(accel) + rt_primary_bytes(primary)) / 1024.0);
         printf("ranks:         %d x %d threads, %u units", farm.size, threads, res.units);
         if (samples_restored)
             printf(", %.1f%% of the samples restored from %s (%u complete rows)",
@@ -419,6 +435,7 @@ int main(int argc, char **argv)
         free(res.ranks);
         free(res.trace);
     }
+    rt_primary_free(primary);
     rt_accel_free(accel);
     rt_scene_free(&scene);
     rt_farm_finalize(&farm);

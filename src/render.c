@@ -11,6 +11,7 @@
 
 #include "bvh.h"
 #include "mem.h"
+#include "primary.h"
 #include "status.h"
 
 static inline int omp_thread(void)
@@ -35,6 +36,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->p = *p;
     r->stop = NULL;
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
+    r->primary = NULL;
     return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
 }
 
@@ -92,7 +94,8 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
  * (r->bvh_avx), and the caller must be compiled for AVX. */
 static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_renderer *r, rt_ray ray, rt_rng *rng,
                                                                 rt_vec3 throughput, uint32_t depth0,
-                                                                uint64_t *segments, rt_ray *rays, const int avx)
+                                                                uint64_t *segments, rt_ray *rays, const int avx,
+                                                                uint32_t pfirst, int32_t pn)
 {
     rt_vec3 color = rt_v3(0, 0, 0);
     uint64_t segs = 0;
@@ -101,12 +104,16 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
         if (rays)
             rays[segs] = ray;
         segs++;
+        int found;
+        if (depth == 0 && pn >= 0)
+            found = rt_primary_closest(r->primary, pfirst, pn, &ray, T_MIN, INFINITY, &hit);
+        else
 #if RT_BVH_HAVE_AVX
-        int found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
+            found = avx ? rt_bvh_closest_avx(r->bvh_avx, &ray, T_MIN, INFINITY, &hit)
                         : rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
 #else
+            found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
         (void)avx;
-        int found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
 #endif
         if (!path_step(r, &ray, found, &hit, rng, &throughput, &color))
             break;
@@ -119,17 +126,27 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
  * when rays is not NULL, every ray traced is stored there (rt_render_sample
  * passes NULL, and the stores fold away). */
 static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
-                                                                uint64_t *segments, rt_ray *rays)
+                                                                uint64_t *segments, rt_ray *rays, uint32_t pfirst,
+                                                                int32_t pn)
 {
     rt_vec3 throughput = rt_v3(1, 1, 1);
-    return trace_rest(r, ray, rng, throughput, 0, segments, rays, 0);
+    return trace_rest(r, ray, rng, throughput, 0, segments, rays, 0, pfirst, pn);
+}
+
+/* The camera rays' list of pixel (x, y) (rt_primary_tile), -1 for none. */
+static inline int32_t primary_list(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t *first)
+{
+    *first = 0;
+    return r->primary ? rt_primary_tile(r->primary, x, y, first) : -1;
 }
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
     rt_rng rng;
     rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
-    return trace_path(r, ray, &rng, segments, NULL);
+    uint32_t pfirst;
+    int32_t pn = primary_list(r, x, y, &pfirst);
+    return trace_path(r, ray, &rng, segments, NULL, pfirst, pn);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
@@ -137,7 +154,9 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     uint64_t segs = 0;
     rt_rng rng;
     rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
-    trace_path(r, ray, &rng, &segs, rays);
+    uint32_t pfirst;
+    int32_t pn = primary_list(r, x, y, &pfirst);
+    trace_path(r, ray, &rng, &segs, rays, pfirst, pn);
     return (uint32_t)segs;
 }
 
@@ -156,6 +175,8 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     int64_t acc[3] = {0, 0, 0}; /* a local, kept in registers */
     uint64_t segs = 0;
     const uint64_t key = pixel_key(r, x, y);
+    uint32_t pfirst;
+    const int32_t pn = primary_list(r, x, y, &pfirst);
 #if RT_BVH_HAVE_AVX
     if (avx) {
         /* PACKET samples at a time, their paths advanced a segment each
@@ -183,7 +204,12 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             int live = all;
             uint32_t depth = 0;
             for (; depth < r->p.max_depth && rt_render_in_packet(n, live == all, depth); depth++) {
-                const int found = rt_bvh_closest_packet_avx(r->bvh_avx, ray, n, T_MIN, INFINITY, hit);
+                int found = 0;
+                if (depth == 0 && pn >= 0)
+                    for (int k = 0; k < n; k++)
+                        found |= rt_primary_closest(r->primary, pfirst, pn, &ray[k], T_MIN, INFINITY, &hit[k]) << k;
+                else
+                    found = rt_bvh_closest_packet_avx(r->bvh_avx, ray, n, T_MIN, INFINITY, hit);
                 segs += (uint64_t)n;
                 for (int k = 0; k < n; k++)
                     if (!path_step(r, &ray[k], (found >> k) & 1, &hit[k], &rng[k], &thr[k], &col[k]))
@@ -195,7 +221,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
              * warm better than taking the paths in turn. */
             for (; live; live &= live - 1) {
                 const int k = __builtin_ctz((unsigned)live);
-                col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1);
+                col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1, pfirst, pn);
             }
             for (int k = 0; k < n; k++)
                 add_fixed(acc, col[k]);
@@ -207,7 +233,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
         for (uint32_t s = s0; s < s1; s++) {
             rt_rng rng;
             rt_ray cam = camera_ray(r, x, y, key, s, &rng);
-            add_fixed(acc, trace_path(r, cam, &rng, &segs, NULL));
+            add_fixed(acc, trace_path(r, cam, &rng, &segs, NULL, pfirst, pn));
         }
     sum[0] = acc[0];
     sum[1] = acc[1];

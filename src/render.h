@@ -52,6 +52,11 @@ typedef struct rt_renderer {
      * the renderer then runs its copy of the path loop compiled for AVX,
      * with the AVX traversal inlined. */
     const struct rt_bvh *bvh_avx;
+    /* When set, camera rays of the pixels whose tile has a list take their
+     * closest hit from it (primary.h) instead of the intersector; the
+     * caller builds it for this camera and image size (NULL after
+     * rt_render_init). */
+    const struct rt_primary *primary;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p);

@@ -1,0 +1,226 @@
+/* primary.c - candidate lists for camera rays (see primary.h).
+ *
+ * The geometry, in the camera's terms (camera.c): a camera ray leaves
+ * O + e, where O is the lens centre and e a lens offset (|e| <= lens_radius,
+ * at right angles to the view), towards a target Q on the focus plane, at
+ * depth f in front of O. Its point at t is
+ *     X(t) = O + e + t (Q - O - e) = [O + t (Q - O)] + (1 - t) e,
+ * so it lies within |1 - t| lens_radius of the pinhole ray from O through Q
+ * at the same t, and at depth t f. A sphere of centre c (depth dc) and radius
+ * r can therefore only be met at a t in [(dc - r) / f, (dc + r) / f], and only
+ * by a ray whose pinhole ray comes within r + M of c, where M is the largest
+ * |1 - t| lens_radius over those t. The pinhole rays of a tile's pixels fill
+ * the pyramid from O through the tile's footprint on the focus plane; a
+ * sphere is listed unless it lies beyond one of the pyramid's four side
+ * planes by more than r + M. Every bound is widened by a margin of 1e-6 of
+ * the distances involved (the rounding of a ray's construction and of the
+ * sphere test is below 1e-8 of them), so no sphere that a camera ray can hit
+ * is ever left out, and none is skipped while it could still be closer. */
+#include "primary.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "status.h"
+
+#ifndef PRIMARY_CAP
+#define PRIMARY_CAP 16 /* longer lists: the tile's rays go to the BVH */
+#endif
+#define SUPER 8 /* tiles per side of the blocks whose lists the tiles' lists are taken from */
+
+typedef struct order_key {
+    double lo;
+    uint32_t index;
+} order_key;
+
+static int by_lo(const void *pa, const void *pb)
+{
+    const order_key *a = pa, *b = pb;
+    if (a->lo != b->lo)
+        return a->lo < b->lo ? -1 : 1;
+    return a->index < b->index ? -1 : a->index > b->index;
+}
+
+typedef struct frame {
+    rt_vec3 o, ll, h, v;
+    double dw, dh; /* the divisors of the pixel coordinates (render.c's camera_ray) */
+    uint32_t width, height;
+} frame;
+
+/* The inward unit normals of the side planes of the pyramid from the lens
+ * centre through the footprint of pixels [x0, x1] x [y0, y1]. */
+static void pyramid(const frame *F, uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1, rt_vec3 n[4])
+{
+    const double s0 = x0 / F->dw, s1 = (x1 + 1) / F->dw;
+    const double t0 = (F->height - 1 - y1) / F->dh, t1 = (F->height - y0) / F->dh;
+    const rt_vec3 base = rt_v3_sub(F->ll, F->o);
+    n[0] = rt_v3_cross(F->v, rt_v3_add(base, rt_v3_scale(F->h, s0)));
+    n[1] = rt_v3_cross(F->v, rt_v3_add(base, rt_v3_scale(F->h, s1)));
+    n[2] = rt_v3_cross(F->h, rt_v3_add(base, rt_v3_scale(F->v, t0)));
+    n[3] = rt_v3_cross(F->h, rt_v3_add(base, rt_v3_scale(F->v, t1)));
+    const rt_vec3 inward[4] = {F->h, rt_v3_neg(F->h), F->v, rt_v3_neg(F->v)};
+    for (int k = 0; k < 4; k++) {
+        if (rt_v3_dot(n[k], inward[k]) < 0.0)
+            n[k] = rt_v3_neg(n[k]);
+        n[k] = rt_v3_unit(n[k]);
+    }
+}
+
+/* Whether the sphere (rel: centre minus lens centre, reach: widened radius)
+ * reaches into the pyramid of normals n. */
+static inline int reaches(const rt_vec3 n[4], rt_vec3 rel, double reach)
+{
+    for (int k = 0; k < 4; k++)
+        if (rt_v3_dot(n[k], rel) < -reach)
+            return 0;
+    return 1;
+}
+
+int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, uint32_t width, uint32_t height)
+{
+    *out = NULL;
+    if (!width || !height)
+        return RT_EINVAL;
+    frame F = {cam->origin, cam->lower_left, cam->horizontal, cam->vertical, width > 1 ? width - 1.0 : 1.0,
+               height > 1 ? height - 1.0 : 1.0, width, height};
+    const rt_vec3 fwd = rt_v3_neg(cam->w);
+    const double f = rt_v3_dot(rt_v3_sub(cam->lower_left, cam->origin), fwd), lr = fabs(cam->lens_radius);
+    if (!(f > 0.0) || !isfinite(f))
+        return RT_EINVAL;
+    const uint32_t n = s->n_spheres;
+    rt_primary *p = calloc(1, sizeof *p);
+    order_key *key = malloc((n ? n : 1) * sizeof *key);
+    rt_vec3 *rel = malloc((n ? n : 1) * sizeof *rel);
+    double *reach = malloc((n ? n : 1) * sizeof *reach);
+    uint32_t *block = malloc((n ? n : 1) * sizeof *block);
+    int st = RT_ENOMEM;
+    if (!p || !key || !rel || !reach || !block)
+        goto fail;
+    p->width = width;
+    p->height = height;
+    p->tiles_x = (width + RT_PRIMARY_TILE - 1) / RT_PRIMARY_TILE;
+    p->tiles_y = (height + RT_PRIMARY_TILE - 1) / RT_PRIMARY_TILE;
+    p->sph = malloc((n ? n : 1) * sizeof *p->sph);
+    p->tile = malloc((size_t)p->tiles_x * p->tiles_y * sizeof *p->tile);
+    if (!p->sph || !p->tile)
+        goto fail;
+    /* The spheres by the least t at which a camera ray can meet them. */
+    for (uint32_t i = 0; i < n; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        const rt_vec3 d = rt_v3_sub(sp->center, cam->origin);
+        const double r = fabs(sp->radius), dc = rt_v3_dot(d, fwd);
+        const double margin = 1e-6 * (sqrt(rt_v3_len2(d)) + r) + 1e-9;
+        key[i].lo = (dc - r - margin) / f;
+        key[i].index = i;
+    }
+    qsort(key, n, sizeof *key, by_lo);
+    uint32_t live = 0; /* spheres in front of the lens: the rest cannot be hit */
+    for (uint32_t j = 0; j < n; j++) {
+        const uint32_t i = key[j].index;
+        const rt_sphere *sp = &s->spheres[i];
+        const rt_vec3 d = rt_v3_sub(sp->center, cam->origin);
+        const double r = fabs(sp->radius), dc = rt_v3_dot(d, fwd);
+        const double margin = 1e-6 * (sqrt(rt_v3_len2(d)) + r) + 1e-9;
+        if (dc + r + margin <= 0.0)
+            continue;
+        double tlo = (dc - r - margin) / f, thi = (dc + r + margin) / f;
+        tlo = tlo > 0.0 ? tlo : 0.0;
+        const double m = lr * fmax(fabs(1.0 - tlo), fabs(1.0 - thi));
+        rt_primary_sphere *q = &p->sph[live];
+        q->c[0] = sp->center.x;
+        q->c[1] = sp->center.y;
+        q->c[2] = sp->center.z;
+        q->r2 = sp->radius * sp->radius; /* as brute force and the BVH square it */
+        q->lo = key[j].lo;
+        q->index = i;
+        q->pad = 0;
+        rel[live] = d;
+        reach[live] = r + m + margin;
+        live++;
+    }
+    /* The lists: each block of SUPER x SUPER tiles from all the spheres, each
+     * tile from its block's. */
+    size_t cap = 1024, used = 0;
+    p->cand = malloc(cap * sizeof *p->cand);
+    if (!p->cand)
+        goto fail;
+    const uint32_t T = RT_PRIMARY_TILE;
+    for (uint32_t by = 0; by < p->tiles_y; by += SUPER)
+        for (uint32_t bx = 0; bx < p->tiles_x; bx += SUPER) {
+            const uint32_t tx1 = bx + SUPER < p->tiles_x ? bx + SUPER : p->tiles_x;
+            const uint32_t ty1 = by + SUPER < p->tiles_y ? by + SUPER : p->tiles_y;
+            rt_vec3 nb[4];
+            pyramid(&F, bx * T, (tx1 * T < width ? tx1 * T : width) - 1, by * T,
+                    (ty1 * T < height ? ty1 * T : height) - 1, nb);
+            uint32_t nblock = 0;
+            for (uint32_t j = 0; j < live; j++)
+                if (reaches(nb, rel[j], reach[j]))
+                    block[nblock++] = j;
+            for (uint32_t ty = by; ty < ty1; ty++)
+                for (uint32_t tx = bx; tx < tx1; tx++) {
+                    rt_vec3 nt[4];
+                    const uint32_t x1 = (tx + 1) * T < width ? (tx + 1) * T : width;
+                    const uint32_t y1 = (ty + 1) * T < height ? (ty + 1) * T : height;
+                    pyramid(&F, tx * T, x1 - 1, ty * T, y1 - 1, nt);
+                    if (cap - used < PRIMARY_CAP + 1) {
+                        uint32_t *grown = realloc(p->cand, 2 * cap * sizeof *p->cand);
+                        if (!grown)
+                            goto fail;
+                        p->cand = grown;
+                        cap *= 2;
+                    }
+                    int32_t count = 0;
+                    for (uint32_t k = 0; k < nblock && count <= PRIMARY_CAP; k++)
+                        if (reaches(nt, rel[block[k]], reach[block[k]]))
+                            p->cand[used + count++] = block[k];
+                    const uint32_t t = ty * p->tiles_x + tx;
+                    p->tile[t].first = (uint32_t)used;
+                    p->tile[t].n = count <= PRIMARY_CAP ? count : -1;
+                    if (count <= PRIMARY_CAP)
+                        used += (size_t)count;
+                }
+        }
+    p->n_cand = used;
+    p->n_sph = live;
+    free(key);
+    free(rel);
+    free(reach);
+    free(block);
+    *out = p;
+    return RT_OK;
+fail:
+    free(key);
+    free(rel);
+    free(reach);
+    free(block);
+    rt_primary_free(p);
+    return st;
+}
+
+void rt_primary_free(rt_primary *p)
+{
+    if (!p)
+        return;
+    free(p->tile);
+    free(p->cand);
+    free(p->sph);
+    free(p);
+}
+
+size_t rt_primary_bytes(const rt_primary *p)
+{
+    if (!p)
+        return 0;
+    return sizeof *p + (size_t)p->tiles_x * p->tiles_y * sizeof *p->tile + p->n_cand * sizeof *p->cand +
+           p->n_sph * sizeof *p->sph;
+}
+
+void rt_primary_stats(const rt_primary *p, uint32_t *tiles, uint32_t *listed, size_t *candidates)
+{
+    *tiles = p->tiles_x * p->tiles_y;
+    *listed = 0;
+    for (uint32_t t = 0; t < *tiles; t++)
+        *listed += p->tile[t].n >= 0;
+    *candidates = p->n_cand;
+}

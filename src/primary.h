@@ -1,0 +1,87 @@
+/* primary.h - candidate lists for camera rays.
+ *
+ * Every camera ray of a pixel leaves a point of the lens disk towards a point
+ * of the pixel's footprint on the focus plane, so all the rays of a tile of
+ * pixels lie in one known volume: the pinhole pyramid through the tile's
+ * footprint, widened by the lens. rt_primary_build lists, per tile, the
+ * spheres that reach into that volume (a conservative test, with margins far
+ * above rounding), in order of the least distance at which any camera ray can
+ * meet them. A camera ray then tests its tile's spheres in that order and
+ * stops at the first whose least distance is beyond its closest hit: no
+ * traversal. The answer is rt_sphere_closer's rule over the spheres tested,
+ * and a sphere left out can neither be hit nor be closer, so it is the same
+ * hit, to the bit, that brute force and the BVH find. Tiles whose list would
+ * be long (rays grazing the field of spheres towards the horizon) are left
+ * without one, and their rays go to the BVH. */
+#ifndef RT_PRIMARY_H
+#define RT_PRIMARY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "accel.h"
+#include "camera.h"
+#include "scene.h"
+#include "sphere.h"
+
+#define RT_PRIMARY_TILE 8 /* tiles of 8x8 pixels */
+
+typedef struct rt_primary_sphere {
+    double c[3], r2;
+    double lo; /* no camera ray meets the sphere at a t below this */
+    uint32_t index;
+    uint32_t pad;
+} rt_primary_sphere;
+
+typedef struct rt_primary {
+    uint32_t width, height, tiles_x, tiles_y;
+    struct {
+        uint32_t first; /* in cand */
+        int32_t n;      /* spheres in the list; -1: the tile has no list */
+    } *tile;
+    uint32_t *cand; /* indices into sph */
+    rt_primary_sphere *sph; /* the scene's spheres by increasing lo */
+    size_t n_cand;
+    uint32_t n_sph;
+} rt_primary;
+
+/* Builds the lists for the camera rays of a width x height image taken with
+ * cam (as rt_camera_init set it up for that image's aspect). Status code. */
+int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, uint32_t width, uint32_t height);
+void rt_primary_free(rt_primary *p);
+size_t rt_primary_bytes(const rt_primary *p);
+/* Tiles with a list, and the spheres in the lists, for the summary. */
+void rt_primary_stats(const rt_primary *p, uint32_t *tiles, uint32_t *listed, size_t *candidates);
+
+/* The list of pixel (x, y)'s tile: its length (-1 when the tile has no
+ * list), and its start in p->cand through *first. */
+static inline int32_t rt_primary_tile(const rt_primary *p, uint32_t x, uint32_t y, uint32_t *first)
+{
+    const uint32_t t = (y / RT_PRIMARY_TILE) * p->tiles_x + x / RT_PRIMARY_TILE;
+    *first = p->tile[t].first;
+    return p->tile[t].n;
+}
+
+/* The closest hit with tmin < t <= tmax of a camera ray of a pixel whose
+ * tile's list is (first, n >= 0) (rt_primary_tile): rt_accel_closest's answer. */
+static inline int rt_primary_closest(const rt_primary *p, uint32_t first, int32_t n, const rt_ray *ray, double tmin,
+                                     double tmax, rt_hit *hit)
+{
+    const double a = rt_v3_len2(ray->dir);
+    double closest = tmax;
+    uint32_t best = UINT32_MAX;
+    const uint32_t *c = p->cand + first;
+    for (int32_t i = 0; i < n; i++) {
+        const rt_primary_sphere *s = &p->sph[c[i]];
+        if (s->lo > closest)
+            break;
+        rt_sphere_closer(rt_v3(s->c[0], s->c[1], s->c[2]), s->r2, s->index, ray, a, tmin, &closest, &best);
+    }
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = closest;
+    hit->prim = best;
+    return 1;
+}
+
+#endif
