@@ -54,26 +54,38 @@ present = lambda fn: re.search(own_line(fn), text, re.M) is not None
 # the render: rank 0 renders its units as one stream (render.c); the
 # commits of finished units (farm.c's local_done) are not part of it
 render = inclusive("rt_render_stream") - (inclusive("local_done") if present("local_done") else 0)
+# Camera rays whose tile has a candidate list (primary.h: our BVH only) go
+# to rt_primary_closest instead, one call each.
+lists = "rt_primary_closest"
+n_list = calls(lists) if present(lists) else 0
+list_query = inclusive(lists) if n_list else 0
 if present("rt_bvh_closest_avx"):
     single, packet = "rt_bvh_closest_avx", "rt_bvh_closest_packet_avx"
-    # every segment is one ray of a packet (2 to 8 rays) or one single query
-    in_packets, n_packets = segs - calls(single), calls(packet)
+    # every other segment is one ray of a packet (2 to 8 rays) or one single query
+    in_packets, n_packets = segs - n_list - calls(single), calls(packet)
     if not 2 * n_packets <= in_packets <= 8 * n_packets:
-        sys.exit("profile.sh: %d calls of %s and %d of %s for %d ray segments: per-query counts would be wrong"
-                 % (calls(single), single, n_packets, packet, segs))
+        sys.exit("profile.sh: %d calls of %s, %d of %s and %d of %s for %d ray segments: per-query counts would be "
+                 "wrong" % (calls(single), single, n_packets, packet, n_list, lists, segs))
     query, packet_query, name = inclusive(single) + inclusive(packet), inclusive(packet), single + " + " + packet
 else:
     fn = "rt_accel_closest"
-    if calls(fn) != segs:
-        sys.exit("profile.sh: %d calls of %s, %d ray segments: per-query counts would be wrong" % (calls(fn), fn, segs))
-    query, packet_query, name = inclusive(fn), None, fn
+    if calls(fn) + n_list != segs:
+        sys.exit("profile.sh: %d calls of %s and %d of %s, %d ray segments: per-query counts would be wrong"
+                 % (calls(fn), fn, n_list, lists, segs))
+    query, packet_query, name, in_packets = inclusive(fn), None, fn, 0
+query += list_query
+if n_list:
+    name += " + " + lists
 print("profile.sh: callgrind, rt-mpi %s (intersector: %s)" % (opts, name))
 print("  ray segments                          %12d" % segs)
 print("  instructions in the render            %12d" % render)
 print("  per segment                           %12.1f" % (render / segs))
 print("  in the intersector, per query         %12.1f" % (query / segs))
+if n_list:
+    print("    per camera ray through its tile's list (%4.1f%% of them) %8.1f" % (100.0 * n_list / segs, list_query / n_list))
 if packet_query is not None:
     print("    per ray in packets (%4.1f%% of them) %12.1f" % (100.0 * in_packets / segs, packet_query / in_packets))
-    print("    per ray one at a time               %12.1f" % ((query - packet_query) / (segs - in_packets)))
+if segs - in_packets - n_list:
+    print("    per ray one at a time               %12.1f" % ((query - (packet_query or 0) - list_query) / (segs - in_packets - n_list)))
 print("  everything else, per segment          %12.1f" % ((render - query) / segs))
 PY

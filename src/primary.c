@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "sphere.h"
 #include "status.h"
 
 #ifndef PRIMARY_CAP
@@ -196,6 +197,26 @@ fail:
     free(block);
     rt_primary_free(p);
     return st;
+}
+
+int rt_primary_closest(const rt_primary *p, uint32_t first, int32_t n, const rt_ray *ray, double tmin, double tmax,
+                       rt_hit *hit)
+{
+    const double a = rt_v3_len2(ray->dir);
+    double closest = tmax;
+    uint32_t best = UINT32_MAX;
+    const uint32_t *c = p->cand + first;
+    for (int32_t i = 0; i < n; i++) {
+        const rt_primary_sphere *s = &p->sph[c[i]];
+        if (s->lo > closest) /* sorted by lo: no sphere from here on can be as close */
+            break;
+        rt_sphere_closer(rt_v3(s->c[0], s->c[1], s->c[2]), s->r2, s->index, ray, a, tmin, &closest, &best);
+    }
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = closest;
+    hit->prim = best;
+    return 1;
 }
 
 void rt_primary_free(rt_primary *p)
