@@ -11,6 +11,7 @@
 #include "accel.h"
 #include "bench_rays.h"
 #include "bvh.h"
+#include "primary.h"
 #include "progress.h"
 #include "render.h"
 #include "scene.h"
@@ -100,25 +101,31 @@ static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *
 }
 
 /* Our BVH on the rays captured (rays[0, n), the paths' lengths in lens)
- * grouped as the renderer's AVX path loop groups them (render.c, pixel): a
- * pixel's samples eight at a time, whose camera rays, and whose later
- * segments while all eight paths live, go to rt_bvh_closest_packet as one
- * packet; then each path still live goes on to its end one ray at a time.
- * Prints the time per ray of each part, and of all (against tb, the same
- * rays one at a time in render order, and tf, brute force); returns the rays
- * whose packet answer differs from their own query's (untimed). */
-static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_ray *rays, size_t n,
-                           const uint32_t *lens, double tb, double tf)
+ * grouped as the renderer's AVX path loop groups them (render.c, pixel): the
+ * camera rays of a pixel whose tile has a list (pl, primary.h) go through
+ * that list; a pixel's samples eight at a time, whose camera rays (when
+ * there is no list) and later segments while all eight paths live go to
+ * rt_bvh_closest_packet as one packet; then each path still live goes on to
+ * its end one ray at a time. Prints the time per ray of each part, and of
+ * all (against tb, the same rays one at a time in render order, and tf,
+ * brute force); returns the rays whose packet or list answer differs from
+ * their own query's (untimed). */
+static size_t time_packets(const rt_bvh *b, const rt_primary *pl, const rt_render_params *p, const rt_ray *rays,
+                           size_t n, const uint32_t *lens, double tb, double tf)
 {
     const uint32_t S = p->samples;
-    size_t np = 0, ns = 0, npk = 0, at = 0, path = 0;
-    rt_ray *pk = malloc(n * sizeof *pk), *sg = malloc(n * sizeof *sg);
+    size_t np = 0, ns = 0, nl = 0, npk = 0, at = 0, path = 0;
+    rt_ray *pk = malloc(n * sizeof *pk), *sg = malloc(n * sizeof *sg), *ls = malloc(n * sizeof *ls);
     int *sizes = malloc(n * sizeof *sizes);
-    if (!pk || !sg || !sizes) {
+    uint32_t *lfirst = malloc(n * sizeof *lfirst);
+    int32_t *ln = malloc(n * sizeof *ln);
+    if (!pk || !sg || !ls || !sizes || !lfirst || !ln) {
         fprintf(stderr, "bench_accel: out of memory for the packets\n");
         exit(1);
     }
-    for (size_t pixel = 0; pixel < (size_t)p->width * p->height; pixel++)
+    for (size_t pixel = 0; pixel < (size_t)p->width * p->height; pixel++) {
+        uint32_t first_cand = 0;
+        const int32_t list = rt_primary_tile(pl, (uint32_t)(pixel % p->width), (uint32_t)(pixel / p->width), &first_cand);
         for (uint32_t s0 = 0; s0 < S; s0 += RT_RENDER_PACKET) {
             const uint32_t g = S - s0 < RT_RENDER_PACKET ? S - s0 : RT_RENDER_PACKET;
             const rt_ray *first[RT_RENDER_PACKET];
@@ -133,19 +140,37 @@ static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_
             while (pend < p->max_depth && rt_render_in_packet((int)g, pend < all_live, pend))
                 pend++;
             for (uint32_t d = 0; d < pend; d++) {
-                for (uint32_t k = 0; k < g; k++)
-                    pk[np++] = first[k][d];
-                sizes[npk++] = (int)g;
+                for (uint32_t k = 0; k < g; k++) {
+                    if (d == 0 && list >= 0) {
+                        lfirst[nl] = first_cand;
+                        ln[nl] = list;
+                        ls[nl++] = first[k][d];
+                    } else
+                        pk[np++] = first[k][d];
+                }
+                if (!(d == 0 && list >= 0))
+                    sizes[npk++] = (int)g;
             }
             /* then each live path to its end, one ray at a time */
             for (uint32_t k = 0; k < g; k++)
-                for (uint32_t d = pend; d < lens[path - g + k]; d++)
-                    sg[ns++] = first[k][d];
+                for (uint32_t d = pend; d < lens[path - g + k]; d++) {
+                    if (d == 0 && list >= 0) {
+                        lfirst[nl] = first_cand;
+                        ln[nl] = list;
+                        ls[nl++] = first[k][d];
+                    } else
+                        sg[ns++] = first[k][d];
+                }
         }
-    double best_p = 1e30, best_s = 1e30;
+    }
+    double best_p = 1e30, best_s = 1e30, best_l = 1e30;
     for (int round = 0; round < 3; round++) {
-        double sum = 0, t0 = rt_now();
+        double sum = 0, tl = rt_now();
         rt_hit h[8];
+        for (size_t i = 0; i < nl; i++)
+            if (rt_primary_closest(pl, lfirst[i], ln[i], &ls[i], 0.001, INFINITY, h))
+                sum += h[0].t;
+        double t0 = rt_now();
         for (size_t i = 0, at = 0; i < npk; at += (size_t)sizes[i++]) {
             int f = rt_bvh_closest_packet(b, pk + at, sizes[i], 0.001, INFINITY, h);
             sum += f ? h[__builtin_ctz((unsigned)f)].t : 0;
@@ -155,7 +180,8 @@ static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_
             if (rt_bvh_closest(b, &sg[i], 0.001, INFINITY, h))
                 sum += h[0].t;
         double t2 = rt_now();
-        best_p = fmin(best_p, (t1 - t0) * 1e9 / (double)np);
+        best_l = fmin(best_l, (t0 - tl) * 1e9 / (double)(nl ? nl : 1));
+        best_p = fmin(best_p, (t1 - t0) * 1e9 / (double)(np ? np : 1));
         best_s = fmin(best_s, (t2 - t1) * 1e9 / (double)ns);
         sink = sum;
     }
@@ -169,17 +195,33 @@ static size_t time_packets(const rt_bvh *b, const rt_render_params *p, const rt_
             bad += bench_hits_differ((f >> k) & 1, &h[k], x1, &one);
         }
     }
-    double all = (best_p * (double)np + best_s * (double)ns) / (double)(np + ns);
-    printf("bvh on the rays grouped as the renderer groups them (%s):\n",
+    for (size_t i = 0; i < nl; i++) {
+        rt_hit one = {0, 0}, h = {0, 0};
+        int x0 = rt_primary_closest(pl, lfirst[i], ln[i], &ls[i], 0.001, INFINITY, &h);
+        int x1 = rt_bvh_closest(b, &ls[i], 0.001, INFINITY, &one);
+        bad += bench_hits_differ(x0, &h, x1, &one);
+    }
+    const double total = (double)(np + ns + nl);
+    double all = (best_p * (double)np + best_s * (double)ns + best_l * (double)nl) / total;
+    printf("bvh on the rays grouped as the renderer groups them (%s, camera-ray lists):\n",
            rt_bvh_uses_avx(b) ? "avx packets of up to 8 rays" : "no AVX: one at a time");
-    printf("  in packets  %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)np / (double)(np + ns), best_p);
-    printf("  one by one  %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)ns / (double)(np + ns), best_s);
-    printf("  all rays                   %6.1f ns/ray  (%.2fx the rays one at a time in render order)\n", all,
+    printf("  camera rays through their tile's list  %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)nl / total,
+           best_l);
+    printf("  in packets                             %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)np / total,
+           best_p);
+    printf("  one by one                             %5.1f %% of rays  %6.1f ns/ray\n", 100.0 * (double)ns / total,
+           best_s);
+    printf("  all rays                                                %6.1f ns/ray  (%.2fx the rays one at a time in "
+           "render order)\n",
+           all,
            tb / all);
     printf("  bvh / brute speed:   %.2f\n", tf / all);
     free(pk);
     free(sg);
+    free(ls);
     free(sizes);
+    free(lfirst);
+    free(ln);
     return bad;
 }
 
@@ -227,9 +269,15 @@ int main(int argc, char **argv)
     }
     printf("  bvh / brute speed:   %.2f\n", tf / tb);
     time_classes(bvh, &s, rays, n);
-    size_t bad_packets = time_packets(rt_accel_bvh(bvh), &p, rays, n, lens, tb, tf);
+    rt_primary *pl;
+    if (rt_primary_build(&pl, &s, &r.camera, W, H)) {
+        fprintf(stderr, "bench_accel: cannot build the camera-ray lists\n");
+        return 1;
+    }
+    size_t bad_packets = time_packets(rt_accel_bvh(bvh), pl, &p, rays, n, lens, tb, tf);
+    rt_primary_free(pl);
     if (bad_packets)
-        fprintf(stderr, "bench_accel: packets and single queries disagree on %zu rays\n", bad_packets);
+        fprintf(stderr, "bench_accel: packets or lists and single queries disagree on %zu rays\n", bad_packets);
     size_t bad = disagreements(bvh, brute, rays, n, every), checked = (n + every - 1) / every;
     if (bad)
         fprintf(stderr, "bench_accel: bvh and brute force disagree on %zu of the %zu rays compared\n", bad, checked);
