@@ -211,9 +211,18 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                 else
                     found = rt_bvh_closest_packet_avx(r->bvh_avx, ray, n, T_MIN, INFINITY, hit);
                 segs += (uint64_t)n;
-                for (int k = 0; k < n; k++)
-                    if (!path_step(r, &ray[k], (found >> k) & 1, &hit[k], &rng[k], &thr[k], &col[k]))
+                /* the hits, then the misses: two loops over bit masks
+                 * instead of a branch on hit or miss in every lane */
+                for (int m = found; m; m &= m - 1) {
+                    const int k = __builtin_ctz((unsigned)m);
+                    if (!path_step(r, &ray[k], 1, &hit[k], &rng[k], &thr[k], &col[k]))
                         live &= ~(1 << k);
+                }
+                for (int m = all & ~found; m; m &= m - 1) {
+                    const int k = __builtin_ctz((unsigned)m);
+                    path_step(r, &ray[k], 0, &hit[k], &rng[k], &thr[k], &col[k]);
+                    live &= ~(1 << k);
+                }
             }
             /* The paths still live go on one at a time, each to its end:
              * consecutive segments of a path start where the last one
