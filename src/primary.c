@@ -100,8 +100,15 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
         goto fail;
     p->width = width;
     p->height = height;
-    p->tiles_x = (width + RT_PRIMARY_TILE - 1) / RT_PRIMARY_TILE;
-    p->tiles_y = (height + RT_PRIMARY_TILE - 1) / RT_PRIMARY_TILE;
+    p->shift = 3; /* RT_PRIMARY_TILE */
+    for (;;) {
+        const uint32_t T = 1u << p->shift;
+        p->tiles_x = (uint32_t)(((uint64_t)width + T - 1) >> p->shift);
+        p->tiles_y = (uint32_t)(((uint64_t)height + T - 1) >> p->shift);
+        if ((uint64_t)p->tiles_x * p->tiles_y <= RT_PRIMARY_MAX_TILES)
+            break;
+        p->shift++;
+    }
     p->sph = malloc((n ? n : 1) * sizeof *p->sph);
     p->tile = malloc((size_t)p->tiles_x * p->tiles_y * sizeof *p->tile);
     if (!p->sph || !p->tile)
@@ -146,7 +153,7 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
     p->cand = malloc(cap * sizeof *p->cand);
     if (!p->cand)
         goto fail;
-    const uint32_t T = RT_PRIMARY_TILE;
+    const uint32_t T = 1u << p->shift;
     for (uint32_t by = 0; by < p->tiles_y; by += SUPER)
         for (uint32_t bx = 0; bx < p->tiles_x; bx += SUPER) {
             const uint32_t tx1 = bx + SUPER < p->tiles_x ? bx + SUPER : p->tiles_x;

@@ -23,7 +23,11 @@
 #include "camera.h"
 #include "scene.h"
 
-#define RT_PRIMARY_TILE 8 /* tiles of 8x8 pixels */
+/* Tiles of 8x8 pixels, or larger powers of two for images so large that
+ * there would be more than RT_PRIMARY_MAX_TILES of them: the lists stay
+ * under about 2 MB on every rank, whatever the image size. */
+#define RT_PRIMARY_TILE 8
+#define RT_PRIMARY_MAX_TILES 65536u
 
 typedef struct rt_primary_sphere {
     double c[3], r2;
@@ -34,6 +38,7 @@ typedef struct rt_primary_sphere {
 
 typedef struct rt_primary {
     uint32_t width, height, tiles_x, tiles_y;
+    uint32_t shift; /* a tile is 2^shift pixels square */
     struct {
         uint32_t first; /* in cand */
         int32_t n;      /* spheres in the list; -1: the tile has no list */
@@ -56,7 +61,7 @@ void rt_primary_stats(const rt_primary *p, uint32_t *tiles, uint32_t *listed, si
  * list), and its start in p->cand through *first. */
 static inline int32_t rt_primary_tile(const rt_primary *p, uint32_t x, uint32_t y, uint32_t *first)
 {
-    const uint32_t t = (y / RT_PRIMARY_TILE) * p->tiles_x + x / RT_PRIMARY_TILE;
+    const uint32_t t = (y >> p->shift) * p->tiles_x + (x >> p->shift);
     *first = p->tile[t].first;
     return p->tile[t].n;
 }

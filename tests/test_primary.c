@@ -174,6 +174,32 @@ int main(void)
     CHECK(listed >= tiles * 9 / 10);
     CHECK(cand <= (size_t)listed * 6);
     rt_primary_free(p);
+
+    /* A large image: larger tiles, so that the lists stay small; random
+     * pixels' rays still get brute force's hits. */
+    const uint32_t BW = 5000, BH = 4000;
+    CHECK_EQ_INT(rt_camera_init(&cam, &s.camera, (double)BW / BH), RT_OK);
+    CHECK_EQ_INT(rt_primary_build(&p, &s, &cam, BW, BH), RT_OK);
+    rt_primary_stats(p, &tiles, &listed, &cand);
+    printf("final scene, %ux%u: tiles of %u pixels, %u tiles, %u with a list, %zu bytes\n", BW, BH, 1u << p->shift,
+           tiles, listed, rt_primary_bytes(p));
+    CHECK(tiles <= RT_PRIMARY_MAX_TILES);
+    CHECK_EQ_INT(1u << p->shift, 32); /* 157 x 125 tiles; of 16 pixels there would be 313 x 250 */
+    CHECK(rt_primary_bytes(p) < 2u << 20);
+    rt_accel *brute;
+    CHECK_EQ_INT(rt_accel_new(&brute, &s, RT_ACCEL_BRUTE), RT_OK);
+    long before = mismatches, listed_before = listed_rays;
+    for (int k = 0; k < 20000; k++) {
+        uint32_t x = (uint32_t)(rt_rng_double(&rng) * BW), y = (uint32_t)(rt_rng_double(&rng) * BH);
+        double a = 6.283185307179586 * rt_rng_double(&rng), rho = sqrt(rt_rng_double(&rng));
+        rt_ray ray = rt_camera_ray_lens(&cam, (x + rt_rng_double(&rng)) / (BW - 1),
+                                        (BH - 1 - y + rt_rng_double(&rng)) / (BH - 1), rho * cos(a), rho * sin(a));
+        check_ray(p, brute, x, y, &ray);
+    }
+    CHECK_EQ_INT(mismatches - before, 0);
+    CHECK(listed_rays - listed_before > 19000);
+    rt_accel_free(brute);
+    rt_primary_free(p);
     rt_scene_free(&s);
     CHECK_DONE();
 }
