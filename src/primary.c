@@ -13,9 +13,11 @@
  * the pyramid from O through the tile's footprint on the focus plane; a
  * sphere is listed unless it lies beyond one of the pyramid's four side
  * planes by more than r + M. Every bound is widened by a margin of 1e-6 of
- * the distances involved (the rounding of a ray's construction and of the
- * sphere test is below 1e-8 of them), so no sphere that a camera ray can hit
- * is ever left out, and none is skipped while it could still be closer. */
+ * the distances involved, against rounding of at most about 2e-8 of them (a
+ * ray's construction is good to a few ulps; the sphere test's root loses
+ * half its digits only for a grazing ray, sqrt(2^-52) ~ 1.5e-8 of its t), so
+ * no sphere that a camera ray can hit is ever left out, and none is skipped
+ * while it could still be closer. */
 #include "primary.h"
 
 #include <math.h>
