@@ -136,12 +136,44 @@ static prim prim_of(const rt_scene *s, uint32_t index)
     return p;
 }
 
-/* Takes out of the tree, into o->outside, the spheres whose box has at least
- * the area of the box around all the remaining ones, largest first, as long
- * as one sphere is left for the tree. order[0, n) lists the spheres; the ones
- * kept are moved to its front. Returns how many are kept. */
+static int by_value(const void *pa, const void *pb)
+{
+    const double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* The median of the spheres' radii order[0, n) (n > 0); 0 without memory
+ * (then no sphere counts as an outlier). */
+static double median_radius(const rt_scene *s, const uint32_t *order, uint32_t n)
+{
+    double *r = malloc((size_t)n * sizeof *r);
+    if (!r)
+        return 0.0;
+    for (uint32_t i = 0; i < n; i++)
+        r[i] = fabs(s->spheres[order[i]].radius);
+    qsort(r, n, sizeof *r, by_value);
+    double m = r[n / 2];
+    free(r);
+    return m;
+}
+
+/* Takes out of the tree, into o->outside, largest box first and as long as
+ * one sphere is left for the tree, the spheres whose box has at least the
+ * area of the box around all the remaining ones (a ground), and the
+ * outliers: spheres of at least OUTLIER times the median radius. An outlier
+ * in the tree makes every box above it as large as its own (tall boxes over
+ * a flat field of small spheres, in the final scene), and every ray near
+ * them enters those; outside, it costs each ray one sphere test, which does
+ * not depend on the traversal's loads and branches (the CPU runs it beside
+ * them), and its hit bounds the traversal from the start. order[0, n) lists
+ * the spheres; the ones kept are moved to its front. Returns how many are
+ * kept. */
+#ifndef OUTLIER
+#define OUTLIER 4.0
+#endif
 static uint32_t take_outside(rt_bvh *o, const rt_scene *s, const box *pbox, uint32_t *order, uint32_t n)
 {
+    const double median = n ? median_radius(s, order, n) : 0.0;
     while (o->n_outside < OUTSIDE_MAX && n > 1) {
         uint32_t big = 0;
         double big_area = box_area(&pbox[order[0]]);
@@ -157,7 +189,8 @@ static uint32_t take_outside(rt_bvh *o, const rt_scene *s, const box *pbox, uint
         for (uint32_t i = 0; i < n; i++)
             if (i != big)
                 box_grow(&rest, &pbox[order[i]]);
-        if (big_area < box_area(&rest))
+        const int outlier = median > 0.0 && fabs(s->spheres[order[big]].radius) >= OUTLIER * median;
+        if (big_area < box_area(&rest) && !outlier)
             break;
         o->outside[o->n_outside++] = prim_of(s, order[big]);
         order[big] = order[--n];
