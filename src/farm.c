@@ -146,6 +146,9 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     f->size = f->mask_share = 1;
     cpu_set_t mask;
     f->cores = affinity(&mask, &f->omp_bound);
+    for (int c = 0; c < CPU_SETSIZE && f->n_mask < RT_FARM_MASK_CPUS; c++)
+        if (CPU_ISSET(c, &mask))
+            f->mask_cpu[f->n_mask++] = c;
 #ifdef RT_HAVE_MPI
     if (!launched_by_mpi())
         return RT_OK;
@@ -279,6 +282,31 @@ int rt_farm_default_threads(const rt_farm *f)
     int share = f->mask_share > 0 ? f->mask_share : 1;
     int n = f->cores / share + (f->mask_index < f->cores % share ? 1 : 0);
     return n > 0 ? n : 1;
+}
+
+int rt_farm_bind_threads(const rt_farm *f, int threads)
+{
+    const char *env = getenv("RT_BIND");
+    if (threads < 2 || f->omp_bound || getenv("OMP_PROC_BIND") || (env && !strcmp(env, "0")))
+        return 0;
+    const int share = f->mask_share > 0 ? f->mask_share : 1;
+    if (f->n_mask != f->cores || (long)threads * share != f->n_mask || f->mask_index >= share)
+        return 0;
+    const int *cpu = f->mask_cpu + (long)f->mask_index * threads;
+    int bound = 0;
+#ifdef _OPENMP
+#pragma omp parallel num_threads(threads) reduction(+ : bound)
+    {
+        const int k = omp_get_thread_num();
+        cpu_set_t one;
+        CPU_ZERO(&one);
+        CPU_SET(cpu[k], &one);
+        bound += omp_get_num_threads() == threads && pthread_setaffinity_np(pthread_self(), sizeof one, &one) == 0;
+    }
+#else
+    (void)cpu;
+#endif
+    return bound == threads;
 }
 
 /* ---- rank 0: queue, results, checkpoints --------------------------------- */

@@ -18,6 +18,8 @@
  * its checkpoint: rerun with --resume (EX_TEMPFAIL). */
 #define RT_EXIT_INTERRUPTED 75
 
+#define RT_FARM_MASK_CPUS 1024
+
 typedef struct rt_farm {
     int rank, size;
     int cores;       /* CPUs in this rank's affinity mask (OpenMP places when omp_bound) */
@@ -25,6 +27,8 @@ typedef struct rt_farm {
     int mask_index;  /* this rank's place among them */
     int omp_bound;   /* OpenMP binds threads to places (OMP_PROC_BIND): cores counts places */
     int mpi;                    /* 1 when MPI is initialised */
+    int n_mask;                 /* CPUs listed in mask_cpu (at most RT_FARM_MASK_CPUS) */
+    int mask_cpu[RT_FARM_MASK_CPUS]; /* the CPUs of this rank's affinity mask, in order */
 } rt_farm;
 
 typedef struct rt_rank_stats {
@@ -86,6 +90,16 @@ int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len);
  * the ranks of the node that have the same mask (unbound ranks, or ranks in
  * one container's cpuset), so together they use each core once. */
 int rt_farm_default_threads(const rt_farm *f);
+
+/* Binds this rank's OpenMP threads (threads of them, the team the render
+ * will use) one to a CPU, when they exactly fill this rank's share of its
+ * affinity mask (the mask's CPUs divided among the ranks of the node that
+ * have the very same mask) and the user has not set OMP_PROC_BIND: an
+ * unbound worker woken at the start of a parallel region may be put on its
+ * waker's CPU and hold it up for milliseconds, and threads may migrate
+ * while rendering. Never binds when threads would have to share a CPU or
+ * could leave one idle, nor with RT_BIND=0. Returns 1 when it bound them. */
+int rt_farm_bind_threads(const rt_farm *f, int threads);
 
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);

@@ -201,11 +201,13 @@ int main(int argc, char **argv)
             code = EXIT_CHECKPOINT;
         }
     }
-    int threads = 1;
+    int threads = 1, bound = 0;
     if (!code) {
         threads = pick_threads(&farm, &opt, err, sizeof err);
         if (threads < 0)
             code = EXIT_USAGE;
+        else
+            bound = rt_farm_bind_threads(&farm, threads);
     }
 #ifndef RT_HAVE_EMBREE
     if (!code && opt.accel == RT_ACCEL_EMBREE) {
@@ -405,7 +407,8 @@ int main(int argc, char **argv)
             printf("camera-ray lists on %u of %u tiles, ", listed, tiles);
         }
         printf("%.0f KiB)\n", (rt_accel_bytes(accel) + rt_primary_bytes(primary)) / 1024.0);
-        printf("ranks:         %d x %d threads, %u units", farm.size, threads, res.units);
+        printf("ranks:         %d x %d threads%s, %u units", farm.size, threads, bound ? " (one per CPU, bound)" : "",
+               res.units);
         if (samples_restored)
             printf(", %.1f%% of the samples restored from %s (%u complete rows)",
                    100.0 * (double)samples_restored / ((double)opt.height * opt.samples), opt.checkpoint, rows_restored);

@@ -96,6 +96,24 @@ OMP_PROC_BIND=true "$BIN" "${ARGS[@]}" -j 0 -o "$WORK/t.png" --stats "$WORK/t1.j
 check_eq "-j 0 threads with OMP_PROC_BIND=true (as without: $(threads_of "$WORK/t0.json"))" \
     "$(threads_of "$WORK/t1.json")" "$(nproc)"
 same_as_ref "OMP_PROC_BIND=true -j 0" "$WORK/t.png"
+# Threads that exactly fill the CPUs they may run on are bound one to a CPU
+# (rt_farm_bind_threads); not when they would share one, with RT_BIND=0, or
+# when OMP_PROC_BIND is the user's. Same image every time.
+if [ "$(nproc)" -ge 2 ] && command -v taskset >/dev/null; then
+    bound_of() { grep -c '^ranks: .*(one per CPU, bound)' "$1"; }
+    taskset -c 0,1 "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/b.png" >"$WORK/b1.out"
+    check_eq "-j 2 on 2 CPUs: threads bound" "$(bound_of "$WORK/b1.out")" 1
+    same_as_ref "-j 2 bound to 2 CPUs" "$WORK/b.png"
+    taskset -c 0 "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/b.png" >"$WORK/b2.out" 2>/dev/null
+    check_eq "-j 2 on 1 CPU: not bound" "$(bound_of "$WORK/b2.out")" 0
+    same_as_ref "-j 2 on 1 CPU" "$WORK/b.png"
+    RT_BIND=0 taskset -c 0,1 "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/b.png" >"$WORK/b3.out"
+    check_eq "RT_BIND=0: not bound" "$(bound_of "$WORK/b3.out")" 0
+    OMP_PROC_BIND=false taskset -c 0,1 "$BIN" "${ARGS[@]}" -j 2 -o "$WORK/b.png" >"$WORK/b4.out"
+    check_eq "OMP_PROC_BIND set by the user: not bound by rt-mpi" "$(bound_of "$WORK/b4.out")" 0
+else
+    fail "thread binding: needs 2 CPUs and taskset"
+fi
 # A different seed gives a different image (the comparison can fail).
 "$BIN" "${ARGS[@]}" --seed 7 -o "$WORK/s.png" >/dev/null
 if cmp -s "$WORK/ref.png" "$WORK/s.png"; then fail "seed 7 gave the seed-42 image"; else pass "seed changes the image"; fi
