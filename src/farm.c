@@ -287,7 +287,7 @@ int rt_farm_default_threads(const rt_farm *f)
 int rt_farm_bind_threads(const rt_farm *f, int threads)
 {
     const char *env = getenv("RT_BIND");
-    if (threads < 2 || f->omp_bound || getenv("OMP_PROC_BIND") || (env && !strcmp(env, "0")))
+    if (threads < 1 || f->omp_bound || getenv("OMP_PROC_BIND") || (env && !strcmp(env, "0")))
         return 0;
     const int share = f->mask_share > 0 ? f->mask_share : 1;
     if (f->n_mask != f->cores || (long)threads * share != f->n_mask || f->mask_index >= share)

@@ -94,7 +94,8 @@ int rt_farm_default_threads(const rt_farm *f);
 /* Binds this rank's OpenMP threads (threads of them, the team the render
  * will use) one to a CPU, when they exactly fill this rank's share of its
  * affinity mask (the mask's CPUs divided among the ranks of the node that
- * have the very same mask) and the user has not set OMP_PROC_BIND: an
+ * have the very same mask: ranks of one thread each that fill it are bound
+ * too) and the user has not set OMP_PROC_BIND: an
  * unbound worker woken at the start of a parallel region may be put on its
  * waker's CPU and hold it up for milliseconds, and threads may migrate
  * while rendering. Never binds when threads would have to share a CPU or
