@@ -146,9 +146,6 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     f->size = f->mask_share = 1;
     cpu_set_t mask;
     f->cores = affinity(&mask, &f->omp_bound);
-    for (int c = 0; c < CPU_SETSIZE && f->n_mask < RT_FARM_MASK_CPUS; c++)
-        if (CPU_ISSET(c, &mask))
-            f->mask_cpu[f->n_mask++] = c;
 #ifdef RT_HAVE_MPI
     if (!launched_by_mpi())
         return RT_OK;
@@ -287,12 +284,21 @@ int rt_farm_default_threads(const rt_farm *f)
 int rt_farm_bind_threads(const rt_farm *f, int threads)
 {
     const char *env = getenv("RT_BIND");
-    if (threads < 1 || f->omp_bound || getenv("OMP_PROC_BIND") || (env && !strcmp(env, "0")))
+    if (f->omp_bound || getenv("OMP_PROC_BIND") || (env && !strcmp(env, "0")))
         return 0;
-    const int share = f->mask_share > 0 ? f->mask_share : 1;
-    if (f->n_mask != f->cores || (long)threads * share != f->n_mask || f->mask_index >= share)
+    /* affinity() read this mask at rt_farm_init; nothing has changed it */
+    cpu_set_t mask;
+    if (sched_getaffinity(0, sizeof mask, &mask) != 0 || (long)threads * f->mask_share != CPU_COUNT(&mask))
         return 0;
-    const int *cpu = f->mask_cpu + (long)f->mask_index * threads;
+    /* this rank's CPUs: the mask's CPUs [first, first + threads) */
+    const int first = f->mask_index * threads;
+    int cpu[CPU_SETSIZE], n = 0;
+    for (int c = 0; c < CPU_SETSIZE; c++)
+        if (CPU_ISSET(c, &mask)) {
+            if (n >= first && n < first + threads)
+                cpu[n - first] = c;
+            n++;
+        }
     int bound = 0;
 #ifdef _OPENMP
 #pragma omp parallel num_threads(threads) reduction(+ : bound)

@@ -32,14 +32,20 @@
 #endif
 #define SUPER 8 /* tiles per side of the blocks whose lists the tiles' lists are taken from */
 
-typedef struct order_key {
+/* A sphere as the lists see it, computed once: the least t at which a
+ * camera ray can meet it, its index in the scene, its centre relative to the
+ * lens centre, and how far beyond a side plane of a pyramid it can lie and
+ * still be met (its radius, the lens's reach over its depths, a margin). */
+typedef struct geom {
     double lo;
     uint32_t index;
-} order_key;
+    rt_vec3 rel;
+    double reach;
+} geom;
 
 static int by_lo(const void *pa, const void *pb)
 {
-    const order_key *a = pa, *b = pb;
+    const geom *a = pa, *b = pb;
     if (a->lo != b->lo)
         return a->lo < b->lo ? -1 : 1;
     return a->index < b->index ? -1 : a->index > b->index;
@@ -70,14 +76,20 @@ static void pyramid(const frame *F, uint32_t x0, uint32_t x1, uint32_t y0, uint3
     }
 }
 
-/* Whether the sphere (rel: centre minus lens centre, reach: widened radius)
- * reaches into the pyramid of normals n. */
-static inline int reaches(const rt_vec3 n[4], rt_vec3 rel, double reach)
+/* Whether the sphere reaches into the pyramid of inward normals n. */
+static inline int reaches(const rt_vec3 n[4], const geom *g)
 {
     for (int k = 0; k < 4; k++)
-        if (rt_v3_dot(n[k], rel) < -reach)
+        if (rt_v3_dot(n[k], g->rel) < -g->reach)
             return 0;
     return 1;
+}
+
+/* f rounded down to a float (the lists' bound must never rise). */
+static float float_below(double f)
+{
+    float v = (float)f;
+    return (double)v > f ? nextafterf(v, -INFINITY) : v;
 }
 
 int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, uint32_t width, uint32_t height)
@@ -93,13 +105,12 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
         return RT_EINVAL;
     const uint32_t n = s->n_spheres;
     rt_primary *p = calloc(1, sizeof *p);
-    order_key *key = malloc((n ? n : 1) * sizeof *key);
-    rt_vec3 *rel = malloc((n ? n : 1) * sizeof *rel);
-    double *reach = malloc((n ? n : 1) * sizeof *reach);
+    geom *g = malloc((n ? n : 1) * sizeof *g);
     uint32_t *block = malloc((n ? n : 1) * sizeof *block);
     int st = RT_ENOMEM;
-    if (!p || !key || !rel || !reach || !block)
+    if (!p || !g || !block)
         goto fail;
+    p->spheres = s->spheres;
     p->width = width;
     p->height = height;
     p->shift = 3; /* RT_PRIMARY_TILE */
@@ -111,23 +122,13 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
             break;
         p->shift++;
     }
-    p->sph = malloc((n ? n : 1) * sizeof *p->sph);
     p->tile = malloc((size_t)p->tiles_x * p->tiles_y * sizeof *p->tile);
-    if (!p->sph || !p->tile)
+    if (!p->tile)
         goto fail;
-    /* The spheres by the least t at which a camera ray can meet them. */
+    /* The spheres in front of the lens (the others cannot be hit), by the
+     * least t at which a camera ray can meet them. */
+    uint32_t live = 0;
     for (uint32_t i = 0; i < n; i++) {
-        const rt_sphere *sp = &s->spheres[i];
-        const rt_vec3 d = rt_v3_sub(sp->center, cam->origin);
-        const double r = fabs(sp->radius), dc = rt_v3_dot(d, fwd);
-        const double margin = 1e-6 * (sqrt(rt_v3_len2(d)) + r) + 1e-9;
-        key[i].lo = (dc - r - margin) / f;
-        key[i].index = i;
-    }
-    qsort(key, n, sizeof *key, by_lo);
-    uint32_t live = 0; /* spheres in front of the lens: the rest cannot be hit */
-    for (uint32_t j = 0; j < n; j++) {
-        const uint32_t i = key[j].index;
         const rt_sphere *sp = &s->spheres[i];
         const rt_vec3 d = rt_v3_sub(sp->center, cam->origin);
         const double r = fabs(sp->radius), dc = rt_v3_dot(d, fwd);
@@ -135,22 +136,12 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
         if (dc + r + margin <= 0.0)
             continue;
         double tlo = (dc - r - margin) / f, thi = (dc + r + margin) / f;
-        tlo = tlo > 0.0 ? tlo : 0.0;
-        const double m = lr * fmax(fabs(1.0 - tlo), fabs(1.0 - thi));
-        rt_primary_sphere *q = &p->sph[live];
-        q->c[0] = sp->center.x;
-        q->c[1] = sp->center.y;
-        q->c[2] = sp->center.z;
-        q->r2 = sp->radius * sp->radius; /* as brute force and the BVH square it */
-        q->lo = key[j].lo;
-        q->index = i;
-        q->pad = 0;
-        rel[live] = d;
-        reach[live] = r + m + margin;
-        live++;
+        const double lens = lr * fmax(fabs(1.0 - (tlo > 0.0 ? tlo : 0.0)), fabs(1.0 - thi));
+        g[live++] = (geom){tlo, i, d, r + lens + margin};
     }
+    qsort(g, live, sizeof *g, by_lo);
     /* The lists: each block of SUPER x SUPER tiles from all the spheres, each
-     * tile from its block's. */
+     * tile from its block's, so each keeps the order by lo. */
     size_t cap = 1024, used = 0;
     p->cand = malloc(cap * sizeof *p->cand);
     if (!p->cand)
@@ -165,7 +156,7 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
                     (ty1 * T < height ? ty1 * T : height) - 1, nb);
             uint32_t nblock = 0;
             for (uint32_t j = 0; j < live; j++)
-                if (reaches(nb, rel[j], reach[j]))
+                if (reaches(nb, &g[j]))
                     block[nblock++] = j;
             for (uint32_t ty = by; ty < ty1; ty++)
                 for (uint32_t tx = bx; tx < tx1; tx++) {
@@ -174,16 +165,18 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
                     const uint32_t y1 = (ty + 1) * T < height ? (ty + 1) * T : height;
                     pyramid(&F, tx * T, x1 - 1, ty * T, y1 - 1, nt);
                     if (cap - used < PRIMARY_CAP + 1) {
-                        uint32_t *grown = realloc(p->cand, 2 * cap * sizeof *p->cand);
+                        rt_primary_entry *grown = realloc(p->cand, 2 * cap * sizeof *p->cand);
                         if (!grown)
                             goto fail;
                         p->cand = grown;
                         cap *= 2;
                     }
                     int32_t count = 0;
-                    for (uint32_t k = 0; k < nblock && count <= PRIMARY_CAP; k++)
-                        if (reaches(nt, rel[block[k]], reach[block[k]]))
-                            p->cand[used + count++] = block[k];
+                    for (uint32_t k = 0; k < nblock && count <= PRIMARY_CAP; k++) {
+                        const geom *q = &g[block[k]];
+                        if (reaches(nt, q))
+                            p->cand[used + count++] = (rt_primary_entry){float_below(q->lo), q->index};
+                    }
                     const uint32_t t = ty * p->tiles_x + tx;
                     p->tile[t].first = (uint32_t)used;
                     p->tile[t].n = count <= PRIMARY_CAP ? count : -1;
@@ -192,17 +185,12 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
                 }
         }
     p->n_cand = used;
-    p->n_sph = live;
-    free(key);
-    free(rel);
-    free(reach);
+    free(g);
     free(block);
     *out = p;
     return RT_OK;
 fail:
-    free(key);
-    free(rel);
-    free(reach);
+    free(g);
     free(block);
     rt_primary_free(p);
     return st;
@@ -214,12 +202,13 @@ int rt_primary_closest(const rt_primary *p, uint32_t first, int32_t n, const rt_
     const double a = rt_v3_len2(ray->dir);
     double closest = tmax;
     uint32_t best = UINT32_MAX;
-    const uint32_t *c = p->cand + first;
+    const rt_primary_entry *e = p->cand + first;
     for (int32_t i = 0; i < n; i++) {
-        const rt_primary_sphere *s = &p->sph[c[i]];
-        if (s->lo > closest) /* sorted by lo: no sphere from here on can be as close */
+        if (e[i].lo > closest) /* sorted by lo: no sphere from here on can be as close */
             break;
-        rt_sphere_closer(rt_v3(s->c[0], s->c[1], s->c[2]), s->r2, s->index, ray, a, tmin, &closest, &best);
+        const rt_sphere *sp = &p->spheres[e[i].sphere];
+        /* as brute force tests it (accel.c): the same bits */
+        rt_sphere_closer(sp->center, sp->radius * sp->radius, e[i].sphere, ray, a, tmin, &closest, &best);
     }
     if (best == UINT32_MAX)
         return 0;
@@ -234,7 +223,6 @@ void rt_primary_free(rt_primary *p)
         return;
     free(p->tile);
     free(p->cand);
-    free(p->sph);
     free(p);
 }
 
@@ -242,8 +230,7 @@ size_t rt_primary_bytes(const rt_primary *p)
 {
     if (!p)
         return 0;
-    return sizeof *p + (size_t)p->tiles_x * p->tiles_y * sizeof *p->tile + p->n_cand * sizeof *p->cand +
-           p->n_sph * sizeof *p->sph;
+    return sizeof *p + (size_t)p->tiles_x * p->tiles_y * sizeof *p->tile + p->n_cand * sizeof *p->cand;
 }
 
 void rt_primary_stats(const rt_primary *p, uint32_t *tiles, uint32_t *listed, size_t *candidates)

@@ -24,29 +24,29 @@
 #include "scene.h"
 
 /* Tiles of 8x8 pixels, or larger powers of two for images so large that
- * there would be more than RT_PRIMARY_MAX_TILES of them: the lists stay
- * under about 2 MB on every rank, whatever the image size. */
+ * there would be more than RT_PRIMARY_MAX_TILES of them: with at most 16
+ * spheres a list, the lists never take more than 9 MB on a rank, whatever
+ * the image size (109 KiB for the final scene at 600x400). */
 #define RT_PRIMARY_TILE 8
 #define RT_PRIMARY_MAX_TILES 65536u
 
-typedef struct rt_primary_sphere {
-    double c[3], r2;
-    double lo; /* no camera ray meets the sphere at a t below this */
-    uint32_t index;
-    uint32_t pad;
-} rt_primary_sphere;
+/* A sphere in a tile's list: no camera ray of the tile meets it at a t
+ * below lo (rounded down to a float). */
+typedef struct rt_primary_entry {
+    float lo;
+    uint32_t sphere; /* index in the scene */
+} rt_primary_entry;
 
 typedef struct rt_primary {
+    const rt_sphere *spheres; /* the scene's, which must outlive the lists */
     uint32_t width, height, tiles_x, tiles_y;
     uint32_t shift; /* a tile is 2^shift pixels square */
     struct {
         uint32_t first; /* in cand */
         int32_t n;      /* spheres in the list; -1: the tile has no list */
     } *tile;
-    uint32_t *cand; /* indices into sph */
-    rt_primary_sphere *sph; /* the scene's spheres by increasing lo */
+    rt_primary_entry *cand; /* the lists, each by increasing lo */
     size_t n_cand;
-    uint32_t n_sph;
 } rt_primary;
 
 /* Builds the lists for the camera rays of a width x height image taken with

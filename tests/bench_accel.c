@@ -135,32 +135,29 @@ static size_t time_packets(const rt_bvh *b, const rt_primary *pl, const rt_rende
                 at += lens[path];
                 all_live = lens[path] < all_live ? lens[path] : all_live;
             }
-            /* the first pend segments of each path go in packets */
-            uint32_t pend = 0;
+            /* the camera rays through the pixel's list when it has one,
+             * then the segments up to pend in packets */
+            uint32_t d0 = 0;
+            if (list >= 0) {
+                for (uint32_t k = 0; k < g; k++) {
+                    lfirst[nl] = first_cand;
+                    ln[nl] = list;
+                    ls[nl++] = first[k][0];
+                }
+                d0 = 1;
+            }
+            uint32_t pend = d0;
             while (pend < p->max_depth && rt_render_in_packet((int)g, pend < all_live, pend))
                 pend++;
-            for (uint32_t d = 0; d < pend; d++) {
-                for (uint32_t k = 0; k < g; k++) {
-                    if (d == 0 && list >= 0) {
-                        lfirst[nl] = first_cand;
-                        ln[nl] = list;
-                        ls[nl++] = first[k][d];
-                    } else
-                        pk[np++] = first[k][d];
-                }
-                if (!(d == 0 && list >= 0))
-                    sizes[npk++] = (int)g;
+            for (uint32_t d = d0; d < pend; d++) {
+                for (uint32_t k = 0; k < g; k++)
+                    pk[np++] = first[k][d];
+                sizes[npk++] = (int)g;
             }
             /* then each live path to its end, one ray at a time */
             for (uint32_t k = 0; k < g; k++)
-                for (uint32_t d = pend; d < lens[path - g + k]; d++) {
-                    if (d == 0 && list >= 0) {
-                        lfirst[nl] = first_cand;
-                        ln[nl] = list;
-                        ls[nl++] = first[k][d];
-                    } else
-                        sg[ns++] = first[k][d];
-                }
+                for (uint32_t d = pend; d < lens[path - g + k]; d++)
+                    sg[ns++] = first[k][d];
         }
     }
     double best_p = 1e30, best_s = 1e30, best_l = 1e30;

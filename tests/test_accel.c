@@ -93,14 +93,20 @@ static void compare_packet(const rt_bvh *b, const rt_accel *brute, const rt_ray 
     }
 }
 
+/* An empty scene with one grey lambertian material (index 0). */
+static void grey_scene(rt_scene *s)
+{
+    rt_scene_init(s);
+    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+    CHECK_EQ_INT(rt_scene_add_material(s, &m, NULL), RT_OK);
+}
+
 /* The counts on a scene whose tree is known: spheres at x = 0, 100 and 200
  * (radius 1) give a root with three leaves of one sphere each. */
 static void check_counts(void)
 {
     rt_scene s;
-    rt_scene_init(&s);
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
-    CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+    grey_scene(&s);
     for (int i = 0; i < 3; i++)
         CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(100.0 * i, 0, 0), 1.0, 0), RT_OK);
     rt_bvh *b;
@@ -140,9 +146,7 @@ static void check_counts(void)
 static void check_outside(void)
 {
     rt_scene s;
-    rt_scene_init(&s);
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
-    CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+    grey_scene(&s);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 0), 1.0, 0), RT_OK);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, -1000, 0), 1000, 0), RT_OK);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(3, 0, 0), 1.0, 0), RT_OK);
@@ -188,9 +192,7 @@ static void check_outside(void)
 static void check_outliers(void)
 {
     rt_scene s;
-    rt_scene_init(&s);
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
-    CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+    grey_scene(&s);
     for (int i = 0; i < 64; i++)
         CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(2.0 * (i % 8), 0.2, 2.0 * (i / 8)), 0.2, 0), RT_OK);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(7, 1, 7), 1.0, 0), RT_OK);   /* index 64 */
@@ -226,9 +228,7 @@ int main(void)
         if (scene_i % 3 == 0) {
             CHECK_EQ_INT(rt_scene_build_final(&s, (uint64_t)scene_i, 1 + scene_i), RT_OK);
         } else {
-            rt_scene_init(&s);
-            rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
-            CHECK_EQ_INT(rt_scene_add_material(&s, &m, NULL), RT_OK);
+            grey_scene(&s);
             int n = 1 + (int)(rt_rng_double(&rng) * (scene_i % 2 ? 3000 : 40));
             double spread = 1 + 50 * rt_rng_double(&rng);
             for (int i = 0; i < n; i++) {

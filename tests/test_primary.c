@@ -19,6 +19,10 @@
 #include "status.h"
 
 static long rays, listed_rays, hits, mismatches;
+/* renders that use a list with a sphere, and how many differ with the lists
+ * emptied; their middle pixels' samples where the middle tile lists a
+ * sphere, and how many of those differ */
+static int renders, emptied_differ, middles, emptied_sample_differ;
 
 /* One ray of pixel (x, y): its list's answer against brute force's. */
 static void check_ray(const rt_primary *p, const rt_accel *brute, uint32_t x, uint32_t y, const rt_ray *ray)
@@ -142,6 +146,37 @@ int main(void)
                     same &= na == nb && memcmp(&ca, &cb, sizeof ca) == 0;
                 }
             CHECK(same);
+            /* ... and the renderer does consult the lists: with every list
+             * emptied (each camera ray then misses), both path loops render
+             * something else. */
+            const uint32_t tiles = p->tiles_x * p->tiles_y;
+            int32_t *saved = malloc(tiles * sizeof *saved);
+            for (uint32_t t = 0; t < tiles; t++) {
+                saved[t] = p->tile[t].n;
+                p->tile[t].n = p->tile[t].n < 0 ? -1 : 0;
+            }
+            memset(a, 0, len * sizeof *a);
+            rt_render_rows(&with, 0, H, 0, 9, a, 1);
+            uint64_t nd = 0;
+            rt_vec3 cd = rt_render_sample(&with, W / 2, H / 2, 1, &nd);
+            uint64_t nw = 0;
+            rt_vec3 cw = rt_render_sample(&without, W / 2, H / 2, 1, &nw);
+            int any = 0; /* a list with a sphere: then the emptied lists must show */
+            for (uint32_t t = 0; t < tiles; t++)
+                any |= saved[t] > 0;
+            if (any) {
+                emptied_differ += memcmp(a, b, len * sizeof *a) != 0;
+                renders++;
+            }
+            uint32_t f0;
+            if (saved[rt_primary_tile(p, W / 2, H / 2, &f0) < 0 ? 0 : (H / 2 >> p->shift) * p->tiles_x +
+                                                                        (W / 2 >> p->shift)] > 0) {
+                emptied_sample_differ += nd != nw || memcmp(&cd, &cw, sizeof cd) != 0;
+                middles++;
+            }
+            for (uint32_t t = 0; t < tiles; t++)
+                p->tile[t].n = saved[t];
+            free(saved);
             free(a);
             free(b);
             rt_accel_free(bvh);
@@ -154,6 +189,11 @@ int main(void)
            hits, mismatches);
     CHECK_EQ_INT(mismatches, 0);
     CHECK(scenes >= 30);
+    printf("with the lists emptied: %d of %d renders differ, and %d of %d middle pixels' samples\n", emptied_differ,
+           renders, emptied_sample_differ, middles);
+    CHECK(renders >= 4);
+    CHECK_EQ_INT(emptied_differ, renders); /* the path loop of the CPU (packets on AVX) */
+    CHECK(emptied_sample_differ >= 1);     /* rt_render_sample's (a middle ray may miss every listed sphere) */
     CHECK(listed_rays > rays / 2);
     CHECK(hits > listed_rays / 4);
 
