@@ -15,4 +15,4 @@ RT_EXTRA_PACKAGES+=" podman runc debootstrap uidmap"
 # missing tool) fails instead, so CI cannot pass on skipped checks.
 export RT_REQUIRE_ALL=1
 (cd "$ROOT/build" && ctest --output-on-failure --timeout 600 "$@")
-"$ROOT/scripts/sanitize.sh"
+"$ROOT/tools/sanitize.sh"

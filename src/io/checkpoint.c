@@ -1,0 +1,186 @@
+/* checkpoint.c - checkpoint file format (little endian throughout):
+ *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
+ *   exact | u64 seed scene_hash | u32 sampling | u32 rows with samples |
+ *   height u32 sample counts | for each row with samples, width*3 i64 sums |
+ *   u64 FNV-1a of all before. */
+#include "checkpoint.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "hash.h"
+#include "status.h"
+
+static const uint8_t MAGIC[8] = {'R', 'T', 'C', 'K', 'P', 'T', 0, 0};
+#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 + 4)
+
+typedef struct hwriter {
+    FILE *fp;
+    uint64_t h;
+    int err;
+} hwriter;
+
+static void put(hwriter *w, const void *p, size_t n)
+{
+    if (w->err)
+        return;
+    w->h = rt_hash_bytes(w->h, p, n);
+    if (fwrite(p, 1, n, w->fp) != n)
+        w->err = rt_status_from_errno(errno);
+}
+static void put_u32(hwriter *w, uint32_t v)
+{
+    uint8_t b[4];
+    for (int i = 0; i < 4; i++)
+        b[i] = (uint8_t)(v >> (8 * i));
+    put(w, b, 4);
+}
+static void put_u64(hwriter *w, uint64_t v)
+{
+    uint8_t b[8];
+    for (int i = 0; i < 8; i++)
+        b[i] = (uint8_t)(v >> (8 * i));
+    put(w, b, 8);
+}
+
+int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *committed, const int64_t *acc)
+{
+    rt_atomic_file f;
+    int st = rt_atomic_open(&f, path);
+    if (st)
+        return st;
+    hwriter w = {f.fp, RT_HASH_INIT, 0};
+    uint32_t done = 0;
+    for (uint32_t y = 0; y < job->height; y++)
+        done += committed[y] != 0;
+    put(&w, MAGIC, 8);
+    put_u32(&w, RT_CKPT_VERSION);
+    put_u32(&w, job->width);
+    put_u32(&w, job->height);
+    put_u32(&w, job->samples);
+    put_u32(&w, job->max_depth);
+    put_u32(&w, job->diffuse);
+    put_u32(&w, job->exact);
+    put_u64(&w, job->seed);
+    put_u64(&w, job->scene_hash);
+    put_u32(&w, job->sampling);
+    put_u32(&w, done);
+    for (uint32_t y = 0; y < job->height; y++)
+        put_u32(&w, committed[y]);
+    size_t rowlen = (size_t)job->width * 3;
+    uint8_t *buf = malloc(rowlen * 8);
+    if (!buf) {
+        rt_atomic_abort(&f);
+        return RT_ENOMEM;
+    }
+    for (uint32_t y = 0; y < job->height && !w.err; y++) {
+        if (!committed[y])
+            continue;
+        const int64_t *row = acc + (size_t)y * rowlen;
+        for (size_t i = 0; i < rowlen; i++)
+            for (int k = 0; k < 8; k++)
+                buf[i * 8 + k] = (uint8_t)((uint64_t)row[i] >> (8 * k));
+        put(&w, buf, rowlen * 8);
+    }
+    free(buf);
+    uint64_t sum = w.h;
+    put_u64(&w, sum);
+    if (w.err) {
+        rt_atomic_abort(&f);
+        return w.err;
+    }
+    return rt_atomic_commit(&f);
+}
+
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+static uint64_t get_u64(const uint8_t *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
+
+int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committed, int64_t *acc,
+                 uint32_t *rows_done, char *why, size_t whylen)
+{
+    why[0] = 0;
+    char *raw;
+    size_t len;
+    int st = rt_file_read_all(path, (size_t)-1 / 2, &raw, &len);
+    if (st == RT_EIO)
+        snprintf(why, whylen, "%s", strerror(errno));
+    if (st)
+        return st;
+    uint8_t *data = (uint8_t *)raw;
+    if (len < 8 || memcmp(data, MAGIC, 8) != 0) {
+        snprintf(why, whylen, "not an rt-mpi checkpoint");
+        st = RT_EFORMAT;
+    } else if (len < HEADER_BYTES + 8 || get_u64(data + len - 8) != rt_hash_bytes(RT_HASH_INIT, data, len - 8)) {
+        snprintf(why, whylen, "checksum mismatch: the file is corrupt or truncated");
+        st = RT_ECHECKSUM;
+    } else if (get_u32(data + 8) != RT_CKPT_VERSION) {
+        snprintf(why, whylen, "format version %u, expected %u", get_u32(data + 8), RT_CKPT_VERSION);
+        st = RT_EVERSION;
+    }
+    if (st) {
+        free(data);
+        return st;
+    }
+    const uint8_t *p = data + 12;
+    struct {
+        const char *name;
+        uint64_t got, want;
+    } fields[] = {
+        {"width", get_u32(p), expect->width},
+        {"height", get_u32(p + 4), expect->height},
+        {"samples", get_u32(p + 8), expect->samples},
+        {"max depth", get_u32(p + 12), expect->max_depth},
+        {"diffuse model", get_u32(p + 16), expect->diffuse},
+        {"intersector", get_u32(p + 20), expect->exact},
+        {"seed", get_u64(p + 24), expect->seed},
+        {"scene", get_u64(p + 32), expect->scene_hash},
+        {"sampling version", get_u32(p + 40), expect->sampling},
+    };
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+        if (fields[i].got != fields[i].want) {
+            snprintf(why, whylen, "it belongs to a different job (%s %llu, this job has %llu)", fields[i].name,
+                     (unsigned long long)fields[i].got, (unsigned long long)fields[i].want);
+            free(data);
+            return RT_EMISMATCH;
+        }
+    }
+    uint32_t with = get_u32(p + 44);
+    const uint8_t *counts = p + 48;
+    size_t rowlen = (size_t)expect->width * 3;
+    size_t want_len = HEADER_BYTES + (size_t)expect->height * 4 + (size_t)with * rowlen * 8 + 8;
+    uint32_t counted = 0, bad = 0;
+    if (len == want_len) {
+        for (uint32_t y = 0; y < expect->height; y++) {
+            uint32_t c = get_u32(counts + 4 * (size_t)y);
+            counted += c != 0;
+            bad += c > expect->samples;
+        }
+    }
+    if (len != want_len || counted != with || bad) {
+        snprintf(why, whylen, "inconsistent row records");
+        free(data);
+        return RT_EFORMAT;
+    }
+    const uint8_t *q = counts + 4 * (size_t)expect->height;
+    uint32_t complete = 0;
+    for (uint32_t y = 0; y < expect->height; y++) {
+        int64_t *row = acc + (size_t)y * rowlen;
+        committed[y] = get_u32(counts + 4 * (size_t)y);
+        complete += committed[y] == expect->samples;
+        if (!committed[y]) {
+            memset(row, 0, rowlen * sizeof *row);
+            continue;
+        }
+        for (size_t i = 0; i < rowlen; i++, q += 8)
+            row[i] = (int64_t)get_u64(q);
+    }
+    *rows_done = complete;
+    free(data);
+    return RT_OK;
+}

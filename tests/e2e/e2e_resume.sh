@@ -1,0 +1,155 @@
+#!/bin/bash
+# e2e_resume.sh BIN MPIRUN
+# Checkpoint and resume: a run stopped by SIGTERM / SIGUSR1 (also through
+# mpirun), or by a worker killed with -9, leaves a valid checkpoint, and
+# --resume ends with the byte-identical image. Checkpoints of other jobs
+# and corrupt ones are refused; a full disk gives a clear error and no file.
+BIN=$1 MPIRUN=${2:-}
+source "$(dirname "$0")/../support/lib.sh"
+A=(--width 160 --height 96 -s 1000 -q)
+"$BIN" "${A[@]}" -j 2 -o "$WORK/ref.png" >/dev/null
+check_eq "reference render" $? 0
+
+wait_for_file() { # file seconds
+    local i
+    for ((i = 0; i < $2 * 10; i++)); do [ -s "$1" ] && return 0; sleep 0.1; done
+    return 1
+}
+# stop_and_resume label signal launcher... : start, wait for the first
+# checkpoint, signal the launcher, expect 75 (or mpirun's code), resume.
+stop_and_resume() {
+    local label=$1 sig=$2 want=$3
+    shift 3
+    local out="$WORK/$label.png"
+    rm -f "$out" "$out.ckpt"
+    "$@" "${A[@]}" -o "$out" --checkpoint-interval 0 >/dev/null 2>"$WORK/$label.err" &
+    local pid=$!
+    if ! wait_for_file "$out.ckpt" 60; then
+        fail "$label: no checkpoint appeared"
+        kill -9 $pid 2>/dev/null
+        return
+    fi
+    local t0=$(date +%s)
+    kill -"$sig" $pid
+    wait $pid
+    local status=$? took=$(($(date +%s) - t0))
+    check_eq "$label: exit status after SIG$sig" $status "$want"
+    [ $took -le 10 ] && pass "$label: stopped within ${took}s" || fail "$label: took ${took}s to stop"
+    grep -q "interrupted by signal" "$WORK/$label.err" && pass "$label: says it was interrupted" ||
+        fail "$label: no interruption message: $(head -c 300 "$WORK/$label.err")"
+    [ ! -e "$out" ] && pass "$label: no partial image" || fail "$label: image written by an interrupted run"
+    "$BIN" "${A[@]}" -j 2 -o "$out" --resume >"$WORK/$label.out" 2>&1
+    check_eq "$label: resume exit status" $? 0
+    grep -q "of the samples restored" "$WORK/$label.out" && pass "$label: resume used the checkpoint" ||
+        fail "$label: resume restored nothing"
+    cmp -s "$out" "$WORK/ref.png" && pass "$label: resumed image identical" || fail "$label: resumed image differs"
+    [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" || fail "$label: checkpoint left"
+}
+stop_and_resume serial-term TERM 75 "$BIN" -j 2
+stop_and_resume serial-int INT 75 "$BIN" -j 1
+# Progressive passes: rows are stopped with part of their samples; the
+# resume (without passes) adds the rest.
+stop_and_resume passes-term TERM 75 "$BIN" -j 2 --passes 5
+if [ -n "$MPIRUN" ]; then
+    stop_and_resume mpi-usr1 USR1 75 "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" -j 1
+    # SIGTERM to mpirun: Open MPI ends the job itself (exit 1), but rank 0
+    # still saves the checkpoint first.
+    stop_and_resume mpi-term TERM 1 "$MPIRUN" -np 3 --oversubscribe --bind-to none "$BIN" -j 1
+
+    # A worker killed with -9: the job ends within seconds. No periodic
+    # checkpoint is due (interval 1 h), so a checkpoint can only come from
+    # rank 0 saving on the SIGTERM mpirun sends it; the resume is identical.
+    # A job four times as long as A, so it still runs when the kill comes
+    # (A takes about 1.5 s here under mpirun: a faster renderer once
+    # finished it first).
+    K=(--width 160 --height 96 -s 4000 -q)
+    "$BIN" "${K[@]}" -j 2 -o "$WORK/ref4.png" >/dev/null
+    check_eq "reference render (kill -9 job)" $? 0
+    out="$WORK/kill9.png"
+    "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${K[@]}" -j 1 -o "$out" --checkpoint-interval 3600 \
+        >/dev/null 2>"$WORK/kill9.err" &
+    pid=$!
+    victim=""
+    for ((i = 0; i < 100; i++)); do # rank 1, found by its environment
+        [ -n "$victim" ] && break
+        sleep 0.1
+        for p in $(pgrep -f -- "-o $out"); do
+            tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1' && victim=$p
+        done
+    done
+    if [ -n "$victim" ]; then
+        sleep 1.5 # let some rows complete
+        t0=$(date +%s)
+        kill -9 "$victim"
+        wait $pid
+        status=$? took=$(($(date +%s) - t0))
+        [ $status -ne 0 ] && [ $took -le 15 ] && pass "kill -9 of rank 1 ends the job (status $status, ${took}s)" ||
+            fail "kill -9: status $status after ${took}s"
+        [ -s "$out.ckpt" ] && pass "kill -9: rank 0 saved a checkpoint on mpirun's SIGTERM" ||
+            fail "kill -9: no checkpoint: $(grep -m1 rt-mpi "$WORK/kill9.err")"
+        "$BIN" "${K[@]}" -j 2 -o "$out" --resume >"$WORK/kill9.out" 2>&1
+        grep -q "of the samples restored" "$WORK/kill9.out" && cmp -s "$out" "$WORK/ref4.png" &&
+            pass "kill -9: resume restored work and the image is identical" || fail "kill -9: resume: $(head -c 300 "$WORK/kill9.out")"
+    else
+        fail "kill -9: rank 1 not found"
+        kill -9 $pid
+    fi
+fi
+
+# Refusals: exit 3, one clear line, nothing rendered.
+B=(--width 160 --height 96 -s 300 -q -o "$WORK/x.png")
+"$BIN" "${B[@]}" --keep-checkpoint -s 2 >/dev/null 2>&1
+[ -s "$WORK/x.png.ckpt" ] && pass "--keep-checkpoint keeps it" || fail "--keep-checkpoint: no checkpoint"
+expect_refusal 3 "checkpoint of another job (samples)" "different job (samples 2" "$BIN" "${B[@]}" -s 3 --resume
+expect_refusal 3 "checkpoint of another job (seed)" "different job (seed" "$BIN" "${B[@]}" -s 2 --seed 5 --resume
+expect_refusal 3 "existing checkpoint without --resume" "pass --resume" "$BIN" "${B[@]}" -s 2
+cp "$WORK/x.png.ckpt" "$WORK/y.ckpt"
+printf '\x01' | dd of="$WORK/x.png.ckpt" bs=1 seek=200 conv=notrunc 2>/dev/null
+expect_refusal 3 "corrupt checkpoint" "corrupt or truncated" "$BIN" "${B[@]}" -s 2 --resume
+head -c 100 "$WORK/y.ckpt" >"$WORK/x.png.ckpt"
+expect_refusal 3 "truncated checkpoint" "corrupt or truncated" "$BIN" "${B[@]}" -s 2 --resume
+rm -f "$WORK/x.png.ckpt"
+expect_refusal 3 "resume without a checkpoint" "no checkpoint" "$BIN" "${B[@]}" -s 2 --resume
+
+# Full disk (needs a tmpfs mount: root in a sandbox that allows it).
+mkdir -p "$WORK/full"
+if mount -t tmpfs -o size=48k tmpfs "$WORK/full" 2>/dev/null; then
+    printf precious >"$WORK/full/x.png"
+    "$BIN" --width 300 --height 200 -s 1 -q -o "$WORK/full/x.png" >/dev/null 2>"$WORK/e.txt"
+    st=$?
+    [ $st -eq 1 ] && grep -q "no space left" "$WORK/e.txt" && pass "full disk -> $(cat "$WORK/e.txt")" ||
+        fail "full disk: status $st: $(cat "$WORK/e.txt")"
+    [ "$(ls "$WORK/full")" = x.png ] && pass "full disk: no partial file" || fail "full disk left: $(ls "$WORK/full")"
+    check_eq "full disk: the existing output is untouched" "$(cat "$WORK/full/x.png")" precious
+    rm -f "$WORK/full/x.png"
+    # With the checkpoint elsewhere, the finished render survives the full
+    # disk and a resume only writes the image.
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/full/y.png" --checkpoint "$WORK/fulldisk.ckpt" >/dev/null 2>"$WORK/e.txt"
+    grep -q "saved in the checkpoint" "$WORK/e.txt" && [ -s "$WORK/fulldisk.ckpt" ] && pass "full disk: render kept in the checkpoint" ||
+        fail "full disk: checkpoint not kept: $(cat "$WORK/e.txt")"
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/y.png" --checkpoint "$WORK/fulldisk.ckpt" --resume >"$WORK/y.out" 2>&1
+    "$BIN" --width 300 --height 200 -s 2 -q -o "$WORK/y-direct.png" >/dev/null 2>&1
+    grep -q "100.0% of the samples restored" "$WORK/y.out" && cmp -s "$WORK/y.png" "$WORK/y-direct.png" &&
+        pass "full disk: resume writes the identical image without rendering" ||
+        fail "full disk: resume: $(head -c 300 "$WORK/y.out")"
+    umount "$WORK/full"
+else
+    skip "full-disk cases need permission to mount a tmpfs"
+fi
+
+# Progressive previews: written during the run, each a valid PNG.
+"$BIN" --width 64 --height 40 -s 8 --passes 4 -j 2 -o "$WORK/prog.png" --preview "$WORK/prev.png" >/dev/null 2>&1
+check_eq "progressive run exit status" $? 0
+[ -s "$WORK/prev.png" ] && pass "preview written" || fail "no preview file"
+"$BIN" --width 64 --height 40 -s 8 -j 2 -o "$WORK/flat.png" >/dev/null 2>&1
+cmp -s "$WORK/prog.png" "$WORK/flat.png" && pass "progressive final = one-pass image" || fail "progressive image differs"
+cmp -s "$WORK/prev.png" "$WORK/flat.png" && fail "last preview is the final image (should be pass 3 of 4)" || pass "preview is an earlier pass"
+
+# Trace and stats are valid JSON with one event per unit.
+"$BIN" --width 64 --height 40 -s 4 -q -o "$WORK/t.png" --trace "$WORK/t.json" --stats "$WORK/s.json" >"$WORK/t.out"
+units=$(sed -n 's/^ranks:.* \([0-9]*\) units.*/\1/p' "$WORK/t.out")
+got=$(python3 -c "import json,sys; t=json.load(open('$WORK/t.json')); print(sum(1 for e in t['traceEvents'] if e.get('ph')=='X'))")
+check_eq "trace has one event per unit" "$got" "$units"
+hash=$(python3 -c "import json; print(json.load(open('$WORK/s.json'))['image_hash'])")
+check_eq "stats image hash" "$hash" "$(sed -n 's/^image hash: *//p' "$WORK/t.out")"
+finish

@@ -1,0 +1,51 @@
+# lib.sh - shared helpers for the end-to-end tests (sourced).
+# Every check prints PASS/FAIL with the values involved; the script ends
+# with "N passed, N failed" and a non-zero status on any failure.
+set -u
+PASSED=0
+FAILED=0
+source "$(dirname "${BASH_SOURCE[0]}")/../../scripts/mpi_env.sh"
+export OMPI_MCA_rmaps_base_oversubscribe=1
+WORK=$(mktemp -d /tmp/rt-e2e.XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+
+pass() { PASSED=$((PASSED + 1)); echo "PASS: $*"; }
+fail() { FAILED=$((FAILED + 1)); echo "FAIL: $*"; }
+check_eq() { # name got want (an empty want is a failure: nothing was parsed)
+    if [ -n "$3" ] && [ "$2" = "$3" ]; then pass "$1 ($2)"; else fail "$1: got '$2', want '$3'"; fi
+}
+# A case this machine cannot run. scripts/test.sh sets RT_REQUIRE_ALL=1, so
+# in the test command (and CI) a skipped case is a failure, not a silent pass.
+skip() {
+    if [ "${RT_REQUIRE_ALL:-0}" = 1 ]; then fail "cannot run here: $*"; else echo "SKIP: $*"; fi
+}
+finish() {
+    echo "$PASSED passed, $FAILED failed"
+    [ "$FAILED" -eq 0 ]
+    exit $?
+}
+# mpirun with the options a 2-core box needs: ranks may use every core
+# (bind-to none) and we may start more ranks than cores.
+mpirun_np() { # N args...
+    local n=$1
+    shift
+    timeout 120 "$MPIRUN" -np "$n" --oversubscribe --bind-to none "$@"
+}
+# A run that must be refused: exit status WANT, one stderr line
+# "rt-mpi: error: ..." matching PATTERN (a grep regex), nothing on stdout,
+# no file created in $WORK/out and no temporary file left in $WORK.
+expect_refusal() { # want label pattern command...
+    local want=$1 label=$2 pattern=$3 status lines
+    shift 3
+    rm -rf "$WORK/out" && mkdir -p "$WORK/out"
+    "$@" >"$WORK/usage.out" 2>"$WORK/usage.err"
+    status=$?
+    lines=$(wc -l <"$WORK/usage.err")
+    if [ $status -eq "$want" ] && [ "$lines" -eq 1 ] && grep -q "^rt-mpi: error: .*$pattern" "$WORK/usage.err" &&
+        [ ! -s "$WORK/usage.out" ] && [ -z "$(ls -A "$WORK/out")" ] && ! ls "$WORK" | grep -q '\.tmp\.'; then
+        pass "$label -> $(cat "$WORK/usage.err")"
+    else
+        fail "$label: status $status, $lines stderr lines: $(head -c 300 "$WORK/usage.err"), out: $(ls -A "$WORK/out")"
+    fi
+}
+expect_usage_error() { expect_refusal 2 "$@"; } # label pattern command...
