@@ -3,6 +3,7 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -69,7 +70,7 @@ const char *rt_cli_usage(void)
            "                           (only in builds with -DRT_EMBREE=ON), bvh-sse (the BVH with the\n"
            "                           SSE2 box test that x86-64 CPUs without AVX run) or bvh-scalar\n"
            "                           (the BVH with the portable box test that non-x86 nodes run)\n"
-           "                           [default: bvh]\n"
+           "                           [default: bvh, or RT_ACCEL: bvh, bvh-sse or bvh-scalar]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
            "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
@@ -259,9 +260,29 @@ static int apply(const optdef *d, const char *name, const char *val, rt_options 
     return 0;
 }
 
+/* RT_ACCEL: a node's own default for --accel, set by a site per node (say,
+ * bvh-scalar on nodes without SSE2, bvh-sse to match a mixed cluster).
+ * Only our BVH's variants, which find the very same hits: ranks of one job
+ * may differ in it and still make the same image. --accel wins over it. */
+static int accel_from_env(rt_options *o, char *err, size_t errlen)
+{
+    const char *env = getenv("RT_ACCEL");
+    if (!env || !*env)
+        return 0;
+    int k = rt_accel_parse(env);
+    if (k != RT_ACCEL_BVH && k != RT_ACCEL_BVH_SSE && k != RT_ACCEL_BVH_SCALAR) {
+        snprintf(err, errlen, "RT_ACCEL='%s' is not one of bvh, bvh-sse, bvh-scalar", env);
+        return -1;
+    }
+    o->accel = k;
+    return 0;
+}
+
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
 {
     rt_cli_action action = RT_CLI_RUN;
+    if (accel_from_env(o, err, errlen))
+        return RT_CLI_ERROR;
     for (int i = 1; i < argc; i++) {
         const char *arg = argv[i];
         const optdef *d = NULL;
