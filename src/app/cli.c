@@ -24,16 +24,16 @@ void rt_cli_defaults(rt_options *o)
 {
     memset(o, 0, sizeof *o);
     o->output = "output.png";
-    o->width = 1200;
-    o->height = 0;
-    o->samples = 500;
+    o->job.width = 1200;
+    o->job.height = 0;
+    o->job.samples = 500;
     o->grid = 11;
-    o->max_depth = 50;
+    o->job.max_depth = 50;
     o->threads = 0;
-    o->seed = 42;
+    o->job.seed = 42;
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
-    o->diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->job.diffuse = RT_DIFFUSE_LAMBERTIAN;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
     o->passes = 1;
@@ -138,13 +138,13 @@ typedef struct optdef {
 #define F(field) offsetof(rt_options, field)
 static const optdef OPTS[] = {
     {"output", 'o', K_PATH, F(output), 0, 0},
-    {"width", 0, K_U32, F(width), 1, MAX_DIM},
-    {"height", 0, K_U32, F(height), 1, MAX_DIM},
-    {"samples", 's', K_U32, F(samples), 1, RT_MAX_SAMPLES},
+    {"width", 0, K_U32, F(job.width), 1, MAX_DIM},
+    {"height", 0, K_U32, F(job.height), 1, MAX_DIM},
+    {"samples", 's', K_U32, F(job.samples), 1, RT_MAX_SAMPLES},
     {"grid", 0, K_INT, F(grid), 0, 1000},
-    {"max-depth", 0, K_U32, F(max_depth), 1, 100000},
+    {"max-depth", 0, K_U32, F(job.max_depth), 1, 100000},
     {"threads", 'j', K_INT, F(threads), 0, 4096},
-    {"seed", 0, K_U64, F(seed), 0, UINT64_MAX},
+    {"seed", 0, K_U64, F(job.seed), 0, UINT64_MAX},
     {"band", 0, K_U32, F(band), 0, MAX_DIM},
     {"accel", 0, K_CHOICE, 0, 0, 0},
     {"diffuse", 0, K_CHOICE, 0, 0, 0},
@@ -200,7 +200,7 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             snprintf(err, errlen, "%s: '%s' is not one of lambertian, sphere, hemisphere", name, val);
             return -1;
         }
-        o->diffuse = k;
+        o->job.diffuse = (rt_diffuse)k;
     } else if (!strcmp(d->lng, "bit-depth")) {
         if (strcmp(val, "8") && strcmp(val, "16")) {
             snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
@@ -344,10 +344,10 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         o->scene = "final";
     if (o->dump_scene) /* nothing renders: the render's options do not matter */
         return RT_CLI_DUMP_SCENE;
-    if (!o->height) { /* not given (--height is at least 1) */
-        o->height = (uint32_t)((double)o->width / 1.5);
-        if (o->height == 0) {
-            snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->width);
+    if (!o->job.height) { /* not given (--height is at least 1) */
+        o->job.height = (uint32_t)((double)o->job.width / 1.5);
+        if (o->job.height == 0) {
+            snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->job.width);
             return RT_CLI_ERROR;
         }
     }
@@ -359,12 +359,12 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
         return RT_CLI_ERROR;
     }
-    if (o->passes > o->samples) {
-        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->samples);
+    if (o->passes > o->job.samples) {
+        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->job.samples);
         return RT_CLI_ERROR;
     }
-    if ((uint64_t)o->width * o->height > MAX_PIXELS) {
-        snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->width, o->height,
+    if ((uint64_t)o->job.width * o->job.height > MAX_PIXELS) {
+        snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->job.width, o->job.height,
                  (unsigned long long)MAX_PIXELS);
         return RT_CLI_ERROR;
     }

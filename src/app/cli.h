@@ -6,6 +6,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "job.h"
+
 #define RT_VERSION "0.1.0"
 
 typedef enum rt_cli_action {
@@ -19,16 +21,12 @@ typedef enum rt_cli_action {
 
 typedef struct rt_options {
     const char *output;
-    uint32_t width, height; /* height 0 = not given: width / 1.5 */
-    uint32_t samples;
+    rt_job job; /* job.height 0 = not given: width / 1.5 */
     int grid;
-    uint32_t max_depth;
     int threads; /* 0 = all cores available to this rank */
-    uint64_t seed;
     uint32_t band; /* rows per work unit; 0 = automatic */
     int quiet;
     int accel;   /* rt_accel_kind */
-    int diffuse; /* rt_diffuse */
     const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */

@@ -53,14 +53,14 @@ static int pick_threads(const rt_farm *f, const rt_options *o, char *err, size_t
  * output format's own pixels (up to 12 bytes: float RGB). */
 static int check_memory(const rt_options *o, char *err, size_t errlen)
 {
-    double need = (double)o->width * o->height * (3 * sizeof(int64_t) + 3 + 12);
+    double need = (double)o->job.width * o->job.height * (3 * sizeof(int64_t) + 3 + 12);
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0;
     if (have > 0 && need > 0.9 * have) {
         snprintf(err, errlen,
                  "a %u x %u image needs about %.1f GiB of memory on rank 0, more than this machine has "
                  "(%.1f GiB)",
-                 o->width, o->height, need / 1073741824.0, have / 1073741824.0);
+                 o->job.width, o->job.height, need / 1073741824.0, have / 1073741824.0);
         return -1;
     }
     return 0;
@@ -83,8 +83,8 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
                  o->ppm_ascii ? " --ppm-ascii" : "");
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
              " --diffuse %s --accel %s%s",
-             scene, grid, o->width, o->height, o->samples, o->max_depth, o->seed,
-             rt_diffuse_name((rt_diffuse)o->diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
+             scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
+             rt_diffuse_name((rt_diffuse)o->job.diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
 }
 
 static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
@@ -92,23 +92,23 @@ static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint
     const rt_options *o = arg;
     const char *path = o->preview ? o->preview : o->output;
     char info[64];
-    snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->samples);
+    snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->job.samples);
     rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
     /* In the format (and bit depth) its extension names, like the output. */
     rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, 2};
-    int st = rt_image_write_rows(path, acc, o->width, o->height, committed, &wo);
+    int st = rt_image_write_rows(path, acc, o->job.width, o->job.height, committed, &wo);
     if (st)
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
 }
 
 /* A checkpoint that holds the whole finished image (every row complete). */
-static int save_finished(const rt_options *o, const rt_ckpt_job *ck, const int64_t *acc)
+static int save_finished(const rt_options *o, const rt_ckpt_id *ck, const int64_t *acc)
 {
-    uint32_t *all = malloc(o->height * sizeof *all);
+    uint32_t *all = malloc(o->job.height * sizeof *all);
     if (!all)
         return RT_ENOMEM;
-    for (uint32_t y = 0; y < o->height; y++)
-        all[y] = o->samples;
+    for (uint32_t y = 0; y < o->job.height; y++)
+        all[y] = o->job.samples;
     int st = rt_ckpt_write(o->checkpoint, ck, all, acc);
     free(all);
     return st;
@@ -118,7 +118,7 @@ static int save_finished(const rt_options *o, const rt_ckpt_job *ck, const int64
 static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
 {
     int st = o->scene_file ? rt_scene_json_load(s, o->scene_file, err, errlen)
-                           : rt_scene_build_named(s, o->scene, o->seed, o->grid);
+                           : rt_scene_build_named(s, o->scene, o->job.seed, o->grid);
     if (st && !o->scene_file)
         snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
     return !st ? 0 : st == RT_ENOMEM || !o->scene_file ? EXIT_RUNTIME : EXIT_USAGE;
@@ -262,9 +262,8 @@ int main(int argc, char **argv)
     if (st)
         rt_farm_fail(&farm, EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(opt.accel),
                      rt_status_str(st));
-    rt_render_params rp = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, (rt_diffuse)opt.diffuse};
     rt_renderer renderer;
-    st = rt_render_init(&renderer, &scene, accel, &rp);
+    st = rt_render_init(&renderer, &scene, accel, &opt.job);
     if (st)
         rt_farm_fail(&farm, EXIT_USAGE, "camera: %s", rt_status_str(st));
     renderer.stop = rt_farm_stop_flag();
@@ -272,7 +271,7 @@ int main(int argc, char **argv)
      * Embree stay as they are: the oracle and the comparison). */
     rt_primary *primary = NULL;
     if (rt_accel_bvh(accel)) {
-        st = rt_primary_build(&primary, &scene, &renderer.camera, opt.width, opt.height);
+        st = rt_primary_build(&primary, &scene, &renderer.camera, opt.job.width, opt.job.height);
         if (st)
             rt_farm_fail(&farm, EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
         renderer.primary = primary;
@@ -281,8 +280,6 @@ int main(int argc, char **argv)
     rt_farm_job job;
     memset(&job, 0, sizeof job);
     job.renderer = &renderer;
-    job.sched.height = opt.height;
-    job.sched.samples = opt.samples;
     job.sched.band = opt.band;
     job.sched.max_band = 16;
     job.sched.ranks = (uint32_t)farm.size;
@@ -299,23 +296,22 @@ int main(int argc, char **argv)
     job.root_serves_only = opt.serve_only;
     job.checkpoint = opt.checkpoint;
     job.checkpoint_interval = opt.checkpoint_interval;
-    rt_ckpt_job ck = {opt.width, opt.height, opt.samples, opt.max_depth, (uint32_t)opt.diffuse,
-                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash, RT_RENDER_SAMPLING};
+    rt_ckpt_id ck = {opt.job, opt.accel != RT_ACCEL_EMBREE, scene_hash, RT_RENDER_SAMPLING};
     job.ckpt_job = ck;
     job.trace = opt.trace != NULL;
 
     /* Rank 0 owns the framebuffer of sums; a resumed run starts from the
      * checkpoint's complete rows. */
-    size_t npix = (size_t)opt.width * opt.height;
+    size_t npix = (size_t)opt.job.width * opt.job.height;
     uint32_t *restored = NULL;
     uint32_t rows_restored = 0;
     uint64_t samples_restored = 0; /* row-samples: sum over rows */
     if (root) {
         job.acc = rt_mem_zeroed(npix * 3 * sizeof *job.acc);
         if (!job.acc)
-            rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", opt.width, opt.height);
+            rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", opt.job.width, opt.job.height);
         if (opt.resume) {
-            restored = calloc(opt.height, sizeof *restored);
+            restored = calloc(opt.job.height, sizeof *restored);
             if (!restored)
                 rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory");
             st = rt_ckpt_read(opt.checkpoint, &ck, restored, job.acc, &rows_restored, err, sizeof err);
@@ -323,23 +319,23 @@ int main(int argc, char **argv)
                 rt_farm_fail(&farm, EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", opt.checkpoint,
                              err[0] ? err : rt_status_str(st));
             job.committed = restored;
-            for (uint32_t y = 0; y < opt.height; y++)
+            for (uint32_t y = 0; y < opt.job.height; y++)
                 samples_restored += restored[y];
         }
     }
     rt_progress progress;
-    rt_progress_init(&progress, opt.height, opt.quiet || !root);
+    rt_progress_init(&progress, opt.job.height, opt.quiet || !root);
     progress.base_rows = rows_restored;
     progress.passes = (int)opt.passes;
     progress.pass = 1;
     job.progress = root ? &progress : NULL;
     if (root && !opt.quiet) {
         fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
-                opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene.n_spheres, farm.size,
+                opt.job.width, opt.job.height, opt.job.samples, opt.job.max_depth, opt.job.seed, scene.n_spheres, farm.size,
                 farm.size > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
         if (opt.resume)
             fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", opt.checkpoint,
-                    100.0 * (double)samples_restored / ((double)opt.height * opt.samples));
+                    100.0 * (double)samples_restored / ((double)opt.job.height * opt.job.samples));
     }
 
     rt_farm_result res;
@@ -350,12 +346,12 @@ int main(int argc, char **argv)
         uint8_t *rgb = malloc(npix * 3);
         if (!rgb)
             rt_farm_fail(&farm, EXIT_RUNTIME, "out of memory for the output image");
-        rt_image_to_rgb8(job.acc, npix, opt.samples, rgb);
+        rt_image_to_rgb8(job.acc, npix, opt.job.samples, rgb);
         uint64_t hash = rt_image_hash(rgb, npix * 3);
         char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
-        snprintf(seed_s, sizeof seed_s, "%" PRIu64, opt.seed);
+        snprintf(seed_s, sizeof seed_s, "%" PRIu64, opt.job.seed);
         snprintf(sampling_s, sizeof sampling_s, "%u", RT_RENDER_SAMPLING);
-        snprintf(spp_s, sizeof spp_s, "%u", opt.samples);
+        snprintf(spp_s, sizeof spp_s, "%u", opt.job.samples);
         repro_command(&opt, cmdline, sizeof cmdline);
         rt_text text[] = {
             {"Software", "rt-mpi " RT_VERSION},
@@ -367,7 +363,7 @@ int main(int argc, char **argv)
             {"rt-mpi:sampling", sampling_s},
         };
         rt_image_write_opts wo = {opt.bit_depth, opt.ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
-        st = rt_image_write(opt.output, job.acc, opt.width, opt.height, opt.samples, &wo);
+        st = rt_image_write(opt.output, job.acc, opt.job.width, opt.job.height, opt.job.samples, &wo);
         if (st) {
             /* Keep the finished work: a resume only has to write the image. */
             const char *saved = "";
@@ -387,8 +383,8 @@ int main(int argc, char **argv)
                 rss_max = res.ranks[i].maxrss_mb;
         }
         printf("output:        %s\n", opt.output);
-        printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", opt.width, opt.height,
-               opt.samples, opt.max_depth, opt.seed);
+        printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", opt.job.width, opt.job.height,
+               opt.job.samples, opt.job.max_depth, opt.job.seed);
         if (opt.scene_file)
             printf("scene:         file %s, %u spheres, hash %016" PRIx64 "\n", opt.scene_file, scene.n_spheres,
                    scene_hash);
@@ -413,7 +409,7 @@ int main(int argc, char **argv)
                res.units);
         if (samples_restored)
             printf(", %.1f%% of the samples restored from %s (%u complete rows)",
-                   100.0 * (double)samples_restored / ((double)opt.height * opt.samples), opt.checkpoint, rows_restored);
+                   100.0 * (double)samples_restored / ((double)opt.job.height * opt.job.samples), opt.checkpoint, rows_restored);
         printf("\n");
         printf("wall time:     %.3f s render, %.3f s total\n", res.wall, rt_now() - t_start);
         printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res.segments,
@@ -427,7 +423,7 @@ int main(int argc, char **argv)
                    res.ranks[i].busy > 0 ? res.ranks[i].segments / res.ranks[i].busy / 1e6 : 0.0);
         printf("image hash:    %016" PRIx64 "\n", hash);
         fflush(stdout);
-        rt_run_summary sum = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, scene_hash, hash,
+        rt_run_summary sum = {opt.job.width, opt.job.height, opt.job.samples, opt.job.max_depth, opt.job.seed, scene_hash, hash,
                               opt.output, rt_accel_name(opt.accel), farm.size, threads, farm.mpi, res.units,
                               rows_restored, res.wall, rt_now() - t_start, res.segments, res.ranks};
         if (opt.stats && (st = rt_report_stats(opt.stats, &sum)) != RT_OK)

@@ -27,23 +27,23 @@ static inline int omp_thread(void)
 #define T_MIN 0.001
 #define PACKET RT_RENDER_PACKET
 
-int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p)
+int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job)
 {
-    if (p->width == 0 || p->height == 0 || p->samples == 0 || p->max_depth == 0)
+    if (job->width == 0 || job->height == 0 || job->samples == 0 || job->max_depth == 0)
         return RT_EINVAL;
     r->scene = s;
     r->accel = a;
-    r->p = *p;
+    r->job = *job;
     r->stop = NULL;
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     r->primary = NULL;
-    return rt_camera_init(&r->camera, &s->camera, (double)p->width / (double)p->height);
+    return rt_camera_init(&r->camera, &s->camera, (double)job->width / (double)job->height);
 }
 
 /* The RNG key of pixel (x, y), shared by its samples. */
 static inline uint64_t pixel_key(const rt_renderer *r, uint32_t x, uint32_t y)
 {
-    return rt_rng_pixel_key(r->p.seed, (uint64_t)y * r->p.width + x);
+    return rt_rng_pixel_key(r->job.seed, (uint64_t)y * r->job.width + x);
 }
 
 /* The camera ray of one sample of pixel (x, y) (key: pixel_key), drawn from
@@ -52,7 +52,7 @@ static inline uint64_t pixel_key(const rt_renderer *r, uint32_t x, uint32_t y)
 static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer *r, uint32_t x, uint32_t y,
                                                                uint64_t key, uint32_t sample, rt_rng *rng)
 {
-    const uint32_t W = r->p.width, H = r->p.height;
+    const uint32_t W = r->job.width, H = r->job.height;
     *rng = rt_rng_for_pixel_sample(key, sample);
     /* The seed renderer's mapping: v counts rows from the bottom. */
     double u = ((double)x + rt_rng_double(rng)) / (double)(W > 1 ? W - 1 : 1);
@@ -81,7 +81,7 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
     rt_surface_from_sphere(&rec, sp, ray, hit->t);
     rt_vec3 att;
     rt_ray next;
-    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->p.diffuse, rng, &att, &next))
+    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->job.diffuse, rng, &att, &next))
         return 0;
     *throughput = rt_v3_mul(*throughput, att);
     *ray = next;
@@ -99,7 +99,7 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
 {
     rt_vec3 color = rt_v3(0, 0, 0);
     uint64_t segs = 0;
-    for (uint32_t depth = depth0; depth < r->p.max_depth; depth++) {
+    for (uint32_t depth = depth0; depth < r->job.max_depth; depth++) {
         rt_hit hit;
         if (rays)
             rays[segs] = ray;
@@ -211,7 +211,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             /* Packets while no path has ended, so ray[0, n) is the packet. */
             int live = all;
             uint32_t depth = 0;
-            for (; depth < r->p.max_depth && rt_render_in_packet(n, live == all, depth); depth++) {
+            for (; depth < r->job.max_depth && rt_render_in_packet(n, live == all, depth); depth++) {
                 int found = 0;
                 if (depth == 0 && pn >= 0)
                     for (int k = 0; k < n; k++)
@@ -290,7 +290,7 @@ static int stopped(const rt_renderer *r)
 static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0, uint32_t s0, uint32_t s1, long i,
                                  int64_t *acc)
 {
-    const uint32_t W = r->p.width;
+    const uint32_t W = r->job.width;
     uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
     int64_t sum[3];
     uint64_t segs = fn(r, x, y, s0, s1, sum);
@@ -304,7 +304,7 @@ static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0,
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
                         int nthreads)
 {
-    const uint32_t W = r->p.width;
+    const uint32_t W = r->job.width;
     const long npix = (long)(y1 - y0) * W;
     uint64_t total = 0;
     pixel_fn fn = pixel_base;
@@ -375,7 +375,7 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
             continue;
         }
         if (got > 0) {
-            size_t need = (size_t)(u.y1 - u.y0) * st->r->p.width * 3;
+            size_t need = (size_t)(u.y1 - u.y0) * st->r->job.width * 3;
             if (need > empty->cap) { /* the first units are the largest (schedule.h) */
                 rt_mem_free(empty->buf, empty->cap * sizeof *empty->buf);
                 empty->cap = 0;
@@ -386,7 +386,7 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
                 empty->cap = need;
             }
             empty->u = u;
-            empty->npix = empty->left = (long)(u.y1 - u.y0) * st->r->p.width;
+            empty->npix = empty->left = (long)(u.y1 - u.y0) * st->r->job.width;
             empty->next = 0;
             empty->segments = 0;
             empty->order = st->taken++;

@@ -14,6 +14,7 @@
 
 #include "accel.h"
 #include "camera.h"
+#include "job.h"
 #include "material.h"
 #include "scene.h"
 #include "schedule.h"
@@ -31,19 +32,11 @@
 #define RT_SAMPLE_MAX 1024.0
 #define RT_MAX_SAMPLES (1u << 20)
 
-typedef struct rt_render_params {
-    uint32_t width, height;
-    uint32_t samples;   /* samples per pixel of the whole job */
-    uint32_t max_depth; /* maximum ray segments per path */
-    uint64_t seed;      /* sampling seed */
-    rt_diffuse diffuse;
-} rt_render_params;
-
 typedef struct rt_renderer {
     const rt_scene *scene;
     const rt_accel *accel;
     rt_camera camera;
-    rt_render_params p;
+    rt_job job;
     /* When set and *stop becomes non-zero (a signal), rendering skips the
      * remaining pixels: rt_render_stream drops the units in hand, and the
      * caller of rt_render_rows discards its block. */
@@ -59,7 +52,7 @@ typedef struct rt_renderer {
     const struct rt_primary *primary;
 } rt_renderer;
 
-int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_render_params *p);
+int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);
 
 /* Colour of one sample of pixel (x, y), y counted from the top row. Adds the
  * number of ray segments traced to *segments. */

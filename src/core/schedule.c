@@ -26,22 +26,22 @@ typedef struct band {
     uint32_t y0, y1, c; /* rows and the samples they already have */
 } band;
 
-int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committed)
+int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, const uint32_t *committed)
 {
     memset(s, 0, sizeof *s);
-    if (!p->height || !p->samples || !p->ranks)
+    if (!job->height || !job->samples || !p->ranks)
         return RT_EINVAL;
-    s->height = p->height;
-    s->samples = p->samples;
-    s->passes = p->passes < 1 ? 1 : p->passes > p->samples ? p->samples : p->passes;
-    s->committed = calloc(p->height, sizeof *s->committed);
+    s->height = job->height;
+    s->samples = job->samples;
+    s->passes = p->passes < 1 ? 1 : p->passes > job->samples ? job->samples : p->passes;
+    s->committed = calloc(job->height, sizeof *s->committed);
     if (!s->committed)
         return RT_ENOMEM;
     uint32_t todo = 0;
-    for (uint32_t y = 0; y < p->height; y++) {
+    for (uint32_t y = 0; y < job->height; y++) {
         uint32_t c = committed ? committed[y] : 0;
-        s->committed[y] = c < p->samples ? c : p->samples;
-        if (s->committed[y] == p->samples)
+        s->committed[y] = c < job->samples ? c : job->samples;
+        if (s->committed[y] == job->samples)
             s->rows_done++;
         else
             todo++;
@@ -52,7 +52,7 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committ
 
     /* Sample split inside a pass: when even one-row bands are too few. */
     uint32_t splits = 1;
-    uint32_t pass_len = p->samples / s->passes;
+    uint32_t pass_len = job->samples / s->passes;
     if (todo > 0 && (uint64_t)todo < want) {
         uint64_t k = (want + todo - 1) / todo;
         uint64_t kmax = pass_len / min_s;
@@ -67,9 +67,9 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committ
     uint32_t nb = 0, remaining = todo;
     size_t capb = 0;
     int st = RT_OK;
-    for (uint32_t y = 0; y < p->height && !st;) {
+    for (uint32_t y = 0; y < job->height && !st;) {
         uint32_t c = s->committed[y];
-        if (c == p->samples) {
+        if (c == job->samples) {
             y++;
             continue;
         }
@@ -79,7 +79,7 @@ int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committ
             rows = g < 1 ? 1 : g > max_band ? max_band : (uint32_t)g;
         }
         uint32_t y1 = y;
-        while (y1 < p->height && y1 - y < rows && s->committed[y1] == c)
+        while (y1 < job->height && y1 - y < rows && s->committed[y1] == c)
             y1++;
         if ((st = rt_array_reserve((void **)&bands, &capb, (size_t)nb + 1, sizeof *bands)) != RT_OK)
             break;

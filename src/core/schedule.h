@@ -20,14 +20,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "job.h"
+
 typedef struct rt_unit {
     uint32_t id;
     uint32_t y0, y1; /* rows */
     uint32_t s0, s1; /* samples */
 } rt_unit;
 
+/* How the job's rows and samples are cut into units. */
 typedef struct rt_sched_params {
-    uint32_t height, samples;
     uint32_t band;           /* fixed rows per unit; 0 = guided sizes up to max_band */
     uint32_t max_band;
     uint32_t ranks;          /* ranks that render */
@@ -47,7 +49,7 @@ typedef struct rt_sched {
 
 /* Plans units for every sample not already committed (committed may be NULL:
  * nothing done yet; else one count per row, e.g. from a checkpoint). */
-int rt_sched_init(rt_sched *s, const rt_sched_params *p, const uint32_t *committed);
+int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, const uint32_t *committed);
 void rt_sched_free(rt_sched *s);
 /* Next unit to hand out; returns 0 when every unit has been handed out. */
 int rt_sched_next(rt_sched *s, rt_unit *u);

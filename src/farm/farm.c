@@ -803,7 +803,7 @@ static int worker_take(void *ctx, rt_unit *u)
 static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     worker *w = ctx;
-    const size_t n = HDR + (size_t)(u->y1 - u->y0) * w->job->renderer->p.width * 3;
+    const size_t n = HDR + (size_t)(u->y1 - u->y0) * w->job->renderer->job.width * 3;
     double end = rt_now() - w->t_start, taken = 0;
     pthread_mutex_lock(&w->mu);
     for (int k = 0; k < w->depth; k++)
@@ -853,7 +853,7 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
     pthread_mutex_unlock(&w->mu);
     rt_rank_stats *me = w->me;
     me->units++;
-    me->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / w->job->renderer->p.samples;
+    me->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / w->job->renderer->job.samples;
     me->segments += (double)segs;
     me->busy += end - start;
 }
@@ -928,7 +928,7 @@ static int worker_poll(void *ctx, int idle)
             uint32_t m[5];
             MPI_Recv(m, 5, MPI_UINT32_T, 0, TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
             rt_unit u = {m[0], m[1], m[2], m[3], m[4]};
-            const rt_render_params *p = &w->job->renderer->p;
+            const rt_job *p = &w->job->renderer->job;
             if (u.y1 <= u.y0 || u.y1 > p->height || u.s1 <= u.s0 || u.s1 > p->samples)
                 rt_farm_fail(w->f, 1, "malformed work unit from rank 0");
             pthread_mutex_lock(&w->mu);
@@ -989,7 +989,7 @@ static void work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, do
         int got;
         while (!g_stop && (got = worker_take(&w, &u)) != 0) {
             if (got > 0) {
-                const int64_t *sums = zero_sums(&zero, &cap, (size_t)(u.y1 - u.y0) * job->renderer->p.width * 3);
+                const int64_t *sums = zero_sums(&zero, &cap, (size_t)(u.y1 - u.y0) * job->renderer->job.width * 3);
                 if (!sums)
                     rt_farm_fail(f, 1, "out of memory for work buffers");
                 worker_done(&w, &u, sums, 0);
@@ -1048,11 +1048,11 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
         memset(&S, 0, sizeof S);
         pthread_mutex_init(&S.mu, NULL);
         S.job = job;
-        S.W = r->p.width;
+        S.W = r->job.width;
         S.acc = job->acc;
         S.t0 = t0;
         S.last_ckpt = t0;
-        int st = rt_sched_init(&S.sched, &job->sched, job->committed);
+        int st = rt_sched_init(&S.sched, &r->job, &job->sched, job->committed);
         S.stats = calloc((size_t)f->size, sizeof *S.stats);
         if (st || !S.stats)
             rt_farm_fail(f, 1, "cannot plan the work units: %s", rt_status_str(st ? st : RT_ENOMEM));

@@ -54,7 +54,7 @@ typedef struct rt_farm_job {
     const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
     const char *checkpoint;    /* path, or NULL for none */
     double checkpoint_interval;
-    rt_ckpt_job ckpt_job;
+    rt_ckpt_id ckpt_job;
     int trace; /* record one event per unit */
     /* Progressive passes: called on rank 0 after pass `pass` (1-based) of
      * sched.passes is complete, with a consistent copy of the sums; every

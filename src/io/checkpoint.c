@@ -46,7 +46,7 @@ static void put_u64(hwriter *w, uint64_t v)
     put(w, b, 8);
 }
 
-int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *committed, const int64_t *acc)
+int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *committed, const int64_t *acc)
 {
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
@@ -54,29 +54,29 @@ int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *comm
         return st;
     hwriter w = {f.fp, RT_HASH_INIT, 0};
     uint32_t done = 0;
-    for (uint32_t y = 0; y < job->height; y++)
+    for (uint32_t y = 0; y < id->job.height; y++)
         done += committed[y] != 0;
     put(&w, MAGIC, 8);
     put_u32(&w, RT_CKPT_VERSION);
-    put_u32(&w, job->width);
-    put_u32(&w, job->height);
-    put_u32(&w, job->samples);
-    put_u32(&w, job->max_depth);
-    put_u32(&w, job->diffuse);
-    put_u32(&w, job->exact);
-    put_u64(&w, job->seed);
-    put_u64(&w, job->scene_hash);
-    put_u32(&w, job->sampling);
+    put_u32(&w, id->job.width);
+    put_u32(&w, id->job.height);
+    put_u32(&w, id->job.samples);
+    put_u32(&w, id->job.max_depth);
+    put_u32(&w, id->job.diffuse);
+    put_u32(&w, id->exact);
+    put_u64(&w, id->job.seed);
+    put_u64(&w, id->scene_hash);
+    put_u32(&w, id->sampling);
     put_u32(&w, done);
-    for (uint32_t y = 0; y < job->height; y++)
+    for (uint32_t y = 0; y < id->job.height; y++)
         put_u32(&w, committed[y]);
-    size_t rowlen = (size_t)job->width * 3;
+    size_t rowlen = (size_t)id->job.width * 3;
     uint8_t *buf = malloc(rowlen * 8);
     if (!buf) {
         rt_atomic_abort(&f);
         return RT_ENOMEM;
     }
-    for (uint32_t y = 0; y < job->height && !w.err; y++) {
+    for (uint32_t y = 0; y < id->job.height && !w.err; y++) {
         if (!committed[y])
             continue;
         const int64_t *row = acc + (size_t)y * rowlen;
@@ -101,7 +101,7 @@ static uint32_t get_u32(const uint8_t *p)
 }
 static uint64_t get_u64(const uint8_t *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
 
-int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committed, int64_t *acc,
+int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
                  uint32_t *rows_done, char *why, size_t whylen)
 {
     why[0] = 0;
@@ -132,13 +132,13 @@ int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committe
         const char *name;
         uint64_t got, want;
     } fields[] = {
-        {"width", get_u32(p), expect->width},
-        {"height", get_u32(p + 4), expect->height},
-        {"samples", get_u32(p + 8), expect->samples},
-        {"max depth", get_u32(p + 12), expect->max_depth},
-        {"diffuse model", get_u32(p + 16), expect->diffuse},
+        {"width", get_u32(p), expect->job.width},
+        {"height", get_u32(p + 4), expect->job.height},
+        {"samples", get_u32(p + 8), expect->job.samples},
+        {"max depth", get_u32(p + 12), expect->job.max_depth},
+        {"diffuse model", get_u32(p + 16), expect->job.diffuse},
         {"intersector", get_u32(p + 20), expect->exact},
-        {"seed", get_u64(p + 24), expect->seed},
+        {"seed", get_u64(p + 24), expect->job.seed},
         {"scene", get_u64(p + 32), expect->scene_hash},
         {"sampling version", get_u32(p + 40), expect->sampling},
     };
@@ -152,14 +152,14 @@ int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committe
     }
     uint32_t with = get_u32(p + 44);
     const uint8_t *counts = p + 48;
-    size_t rowlen = (size_t)expect->width * 3;
-    size_t want_len = HEADER_BYTES + (size_t)expect->height * 4 + (size_t)with * rowlen * 8 + 8;
+    size_t rowlen = (size_t)expect->job.width * 3;
+    size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
     uint32_t counted = 0, bad = 0;
     if (len == want_len) {
-        for (uint32_t y = 0; y < expect->height; y++) {
+        for (uint32_t y = 0; y < expect->job.height; y++) {
             uint32_t c = get_u32(counts + 4 * (size_t)y);
             counted += c != 0;
-            bad += c > expect->samples;
+            bad += c > expect->job.samples;
         }
     }
     if (len != want_len || counted != with || bad) {
@@ -167,12 +167,12 @@ int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committe
         free(data);
         return RT_EFORMAT;
     }
-    const uint8_t *q = counts + 4 * (size_t)expect->height;
+    const uint8_t *q = counts + 4 * (size_t)expect->job.height;
     uint32_t complete = 0;
-    for (uint32_t y = 0; y < expect->height; y++) {
+    for (uint32_t y = 0; y < expect->job.height; y++) {
         int64_t *row = acc + (size_t)y * rowlen;
         committed[y] = get_u32(counts + 4 * (size_t)y);
-        complete += committed[y] == expect->samples;
+        complete += committed[y] == expect->job.samples;
         if (!committed[y]) {
             memset(row, 0, rowlen * sizeof *row);
             continue;

@@ -10,26 +10,29 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "job.h"
+
 #define RT_CKPT_VERSION 3u
 
-/* Everything that changes a pixel. */
-typedef struct rt_ckpt_job {
-    uint32_t width, height, samples, max_depth;
-    uint32_t diffuse, exact; /* exact = 0 only for the Embree intersector */
-    uint64_t seed, scene_hash;
-    uint32_t sampling; /* RT_RENDER_SAMPLING of the build */
-} rt_ckpt_job;
+/* Everything that changes a pixel: the job, and what else decides its
+ * samples' bits. */
+typedef struct rt_ckpt_id {
+    rt_job job;
+    uint32_t exact;      /* 0 only for the Embree intersector */
+    uint64_t scene_hash; /* the broadcast scene's bytes */
+    uint32_t sampling;   /* RT_RENDER_SAMPLING of the build */
+} rt_ckpt_id;
 
 /* committed: per row, the samples [0, committed) its sums cover; acc:
  * width*height*3 sums, of which rows with committed > 0 are stored. */
-int rt_ckpt_write(const char *path, const rt_ckpt_job *job, const uint32_t *committed, const int64_t *acc);
+int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *committed, const int64_t *acc);
 
 /* Loads a checkpoint for `expect`. Fills committed and the sums of the rows
  * that have samples (other rows of acc are zeroed); *rows_done counts the
  * complete rows. On RT_EMISMATCH, `why` names the
  * field that differs; RT_ECHECKSUM for corrupt or truncated files, RT_EFORMAT
  * for files that are not checkpoints, RT_EIO when it cannot be read. */
-int rt_ckpt_read(const char *path, const rt_ckpt_job *expect, uint32_t *committed, int64_t *acc,
+int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
                  uint32_t *rows_done, char *why, size_t whylen);
 
 #endif

@@ -16,7 +16,7 @@ int main(void)
     char path[256];
     snprintf(path, sizeof path, "%s/c.ckpt", dir);
     const uint32_t W = 5, H = 7;
-    rt_ckpt_job job = {W, H, 16, 50, 0, 1, 42, 0x1234, 2};
+    rt_ckpt_id job = {{W, H, 16, 50, 42, RT_DIFFUSE_LAMBERTIAN}, 1, 0x1234, 2};
     int64_t acc[5 * 7 * 3], back[5 * 7 * 3];
     uint32_t done[7] = {16, 0, 16, 5, 0, 0, 16}, done2[7]; /* samples per row */
     for (int i = 0; i < 5 * 7 * 3; i++)
@@ -35,12 +35,12 @@ int main(void)
     CHECK(rows_ok);
 
     /* Each field of the job identity is checked. */
-    rt_ckpt_job other = job;
-    other.samples = 17;
+    rt_ckpt_id other = job;
+    other.job.samples = 17;
     CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
     CHECK(strstr(why, "samples 16") != NULL);
     other = job;
-    other.seed = 43;
+    other.job.seed = 43;
     CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
     CHECK(strstr(why, "seed") != NULL);
     other = job;

@@ -73,7 +73,7 @@ int main(void)
     CHECK_EQ_INT(rt_scene_build_final(&s, 5, 3), RT_OK);
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_render_params p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN};
+    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     size_t n = (size_t)p.width * p.height * 3;
@@ -158,7 +158,7 @@ int main(void)
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
 
     /* A different seed gives a different image. */
-    rt_render_params q = p;
+    rt_job q = p;
     q.seed = 6;
     rt_renderer r2;
     CHECK_EQ_INT(rt_render_init(&r2, &s, a, &q), RT_OK);

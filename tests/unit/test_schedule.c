@@ -57,9 +57,15 @@ static int covers_once(rt_sched *s, uint32_t H, uint32_t S, const uint32_t *star
     return ok;
 }
 
-static rt_sched_params P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
+/* A job of h rows at s samples and the schedule's knobs for it. */
+typedef struct plan {
+    rt_job job;
+    rt_sched_params p;
+} plan;
+
+static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
 {
-    rt_sched_params p = {h, s, band, 16, ranks, per_rank, 1, passes};
+    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN}, {band, 16, ranks, per_rank, 1, passes}};
     return p;
 }
 
@@ -73,9 +79,9 @@ int main(void)
     for (size_t b = 0; b < sizeof bands / sizeof *bands; b++)
         for (size_t r = 0; r < sizeof ranks / sizeof *ranks; r++)
             for (size_t q = 0; q < sizeof passes / sizeof *passes; q++) {
-                rt_sched_params p = P(H, S, bands[b], ranks[r], 8, passes[q]);
+                plan p = P(H, S, bands[b], ranks[r], 8, passes[q]);
                 rt_sched s;
-                CHECK_EQ_INT(rt_sched_init(&s, &p, NULL), RT_OK);
+                CHECK_EQ_INT(rt_sched_init(&s, &p.job, &p.p, NULL), RT_OK);
                 int ok = covers_once(&s, H, S, NULL, &max_rows);
                 CHECK(ok);
                 if (!ok)
@@ -89,16 +95,16 @@ int main(void)
         start[y] = y % 3 == 0 ? S : y % 3 == 1 ? 4 : 0;
     start[50] = start[51] = start[52] = 7;
     for (size_t q = 0; q < sizeof passes / sizeof *passes; q++) {
-        rt_sched_params p = P(H, S, 4, 3, 8, passes[q]);
+        plan p = P(H, S, 4, 3, 8, passes[q]);
         rt_sched s;
-        CHECK_EQ_INT(rt_sched_init(&s, &p, start), RT_OK);
+        CHECK_EQ_INT(rt_sched_init(&s, &p.job, &p.p, start), RT_OK);
         CHECK(covers_once(&s, H, S, start, &max_rows));
         rt_sched_free(&s);
     }
     /* Progressive: the units of pass k all come before those of pass k+1. */
     rt_sched s;
-    rt_sched_params pp = P(20, 12, 5, 2, 8, 3);
-    CHECK_EQ_INT(rt_sched_init(&s, &pp, NULL), RT_OK);
+    plan pp = P(20, 12, 5, 2, 8, 3);
+    CHECK_EQ_INT(rt_sched_init(&s, &pp.job, &pp.p, NULL), RT_OK);
     int ordered = 1;
     for (uint32_t i = 1; i < s.n_units; i++)
         ordered &= s.units[i].s0 >= s.units[i - 1].s0 || s.units[i].s1 <= s.units[i - 1].s1;
@@ -109,8 +115,8 @@ int main(void)
     rt_sched_free(&s);
 
     /* Guided: the first unit is the largest, the last ones are single rows. */
-    rt_sched_params g = P(800, 500, 0, 2, 8, 1);
-    CHECK_EQ_INT(rt_sched_init(&s, &g, NULL), RT_OK);
+    plan g = P(800, 500, 0, 2, 8, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &g.job, &g.p, NULL), RT_OK);
     CHECK_EQ_INT(s.units[0].y1 - s.units[0].y0, 16);
     CHECK_EQ_INT(s.units[s.n_units - 1].y1 - s.units[s.n_units - 1].y0, 1);
     int shrinking = 1;
@@ -121,16 +127,16 @@ int main(void)
     rt_sched_free(&s);
 
     /* More ranks than rows: samples are split so every rank gets work. */
-    rt_sched_params many = P(8, 500, 0, 1024, 4, 1);
-    CHECK_EQ_INT(rt_sched_init(&s, &many, NULL), RT_OK);
+    plan many = P(8, 500, 0, 1024, 4, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &many.job, &many.p, NULL), RT_OK);
     CHECK(s.n_units >= 1024);
     CHECK(s.units[0].s1 - s.units[0].s0 < 500);
     CHECK(covers_once(&s, 8, 500, NULL, &max_rows));
     rt_sched_free(&s);
 
     /* A unit cannot be committed before its predecessor in the row. */
-    rt_sched_params two = P(2, 4, 2, 4, 2, 1);
-    CHECK_EQ_INT(rt_sched_init(&s, &two, NULL), RT_OK);
+    plan two = P(2, 4, 2, 4, 2, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &two.job, &two.p, NULL), RT_OK);
     CHECK(s.n_units >= 2);
     rt_unit u0, u1;
     CHECK(rt_sched_next(&s, &u0));
@@ -139,7 +145,7 @@ int main(void)
     CHECK(!rt_sched_can_commit(&s, &u1));
     CHECK(rt_sched_can_commit(&s, &u0));
     rt_sched_free(&s);
-    rt_sched_params none = P(0, 4, 1, 1, 8, 1);
-    CHECK_EQ_INT(rt_sched_init(&s, &none, NULL), RT_EINVAL);
+    plan none = P(0, 4, 1, 1, 8, 1);
+    CHECK_EQ_INT(rt_sched_init(&s, &none.job, &none.p, NULL), RT_EINVAL);
     CHECK_DONE();
 }

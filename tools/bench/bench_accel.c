@@ -110,7 +110,7 @@ static size_t disagreements(const rt_accel *x, const rt_accel *y, const rt_ray *
  * all (against tb, the same rays one at a time in render order, and tf,
  * brute force); returns the rays whose packet or list answer differs from
  * their own query's (untimed). */
-static size_t time_packets(const rt_bvh *b, const rt_primary *pl, const rt_render_params *p, const rt_ray *rays,
+static size_t time_packets(const rt_bvh *b, const rt_primary *pl, const rt_job *p, const rt_ray *rays,
                            size_t n, const uint32_t *lens, double tb, double tf)
 {
     const uint32_t S = p->samples;
@@ -239,7 +239,7 @@ int main(int argc, char **argv)
         return 1;
     }
     int have_embree = rt_accel_new(&embree, &s, RT_ACCEL_EMBREE) == RT_OK;
-    rt_render_params p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN};
+    rt_job p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN};
     rt_renderer r;
     rt_ray *rays;
     uint32_t *lens;

@@ -21,15 +21,15 @@ static inline int bench_hits_differ(int ha, const rt_hit *a, int hb, const rt_hi
  * path's number of rays. RT_OK, or RT_ENOMEM (and nothing allocated). */
 static int bench_capture_rays(const rt_renderer *r, rt_ray **rays, size_t *n, uint32_t **lens)
 {
-    size_t cap = 0, paths = (size_t)r->p.width * r->p.height * r->p.samples, path = 0;
+    size_t cap = 0, paths = (size_t)r->job.width * r->job.height * r->job.samples, path = 0;
     *rays = NULL;
     *n = 0;
     if (lens && !(*lens = malloc(paths * sizeof **lens)))
         return RT_ENOMEM;
-    for (uint32_t y = 0; y < r->p.height; y++)
-        for (uint32_t x = 0; x < r->p.width; x++)
-            for (uint32_t k = 0; k < r->p.samples; k++, path++) {
-                if (rt_array_reserve((void **)rays, &cap, *n + r->p.max_depth, sizeof **rays)) {
+    for (uint32_t y = 0; y < r->job.height; y++)
+        for (uint32_t x = 0; x < r->job.width; x++)
+            for (uint32_t k = 0; k < r->job.samples; k++, path++) {
+                if (rt_array_reserve((void **)rays, &cap, *n + r->job.max_depth, sizeof **rays)) {
                     free(*rays);
                     *rays = NULL;
                     if (lens) {
