@@ -45,10 +45,10 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
             fputc(*p, fp);
     }
     fprintf(fp, "\",\n");
-    fprintf(fp, "  \"width\": %u, \"height\": %u, \"samples\": %u, \"max_depth\": %u,\n", s->width, s->height,
-            s->samples, s->max_depth);
+    fprintf(fp, "  \"width\": %u, \"height\": %u, \"samples\": %u, \"max_depth\": %u,\n", s->job->width,
+            s->job->height, s->job->samples, s->job->max_depth);
     fprintf(fp, "  \"seed\": %" PRIu64 ", \"scene_hash\": \"%016" PRIx64 "\", \"image_hash\": \"%016" PRIx64 "\",\n",
-            s->seed, s->scene_hash, s->image_hash);
+            s->job->seed, s->scene_hash, s->image_hash);
     fprintf(fp, "  \"intersector\": \"%s\", \"ranks\": %d, \"threads_per_rank\": %d, \"mpi\": %s,\n",
             s->intersector, s->ranks, s->threads, s->mpi ? "true" : "false");
     fprintf(fp, "  \"units\": %u, \"rows_restored\": %u,\n", s->units, s->rows_restored);

@@ -8,10 +8,11 @@
 #include <stdint.h>
 
 #include "farm.h"
+#include "job.h"
 
 typedef struct rt_run_summary {
-    uint32_t width, height, samples, max_depth;
-    uint64_t seed, scene_hash, image_hash;
+    const rt_job *job;
+    uint64_t scene_hash, image_hash;
     const char *output, *intersector;
     int ranks, threads;
     int mpi; /* MPI initialised (a launcher started the job) */

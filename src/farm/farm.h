@@ -1,7 +1,18 @@
-/* farm.h - the only module that talks MPI. Rank 0 serves work units on
- * demand and gathers their fixed-point sums; every rank renders. Built
- * without MPI (RT_HAVE_MPI undefined) the same calls run a single process.
- * Like main, this layer may print errors and end the job. */
+/* farm.h - the only layer that talks MPI. Rank 0 builds nothing here: it
+ * hands out work units on demand and gathers their fixed-point sums; every
+ * rank renders. Built without MPI (RT_HAVE_MPI undefined) the same calls
+ * run a single process. Like main, this layer may print errors and end the
+ * job.
+ *
+ * What the run does with the sums while they come in (progress line,
+ * previews, checkpoints) reaches the farm through hooks (rt_farm_hooks), so
+ * the farm knows neither the progress display nor the checkpoint format.
+ *
+ * Files: start.c (MPI start-up, failure, broadcast, signals), place.c (CPU
+ * masks and thread binding), root.c (rank 0: its own rendering and the
+ * hooks), server.c (rank 0's MPI server), worker.c (the other ranks),
+ * assemble.c (rank 0's result assembly: no MPI, unit-tested), stream.c
+ * (running a rank's units), msg.c (the wire). */
 #ifndef RT_FARM_H
 #define RT_FARM_H
 
@@ -9,8 +20,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "checkpoint.h"
-#include "progress.h"
 #include "render.h"
 #include "schedule.h"
 
@@ -20,11 +29,11 @@
 
 typedef struct rt_farm {
     int rank, size;
-    int cores;       /* CPUs in this rank's affinity mask (OpenMP places when omp_bound) */
-    int mask_share;  /* ranks of this node with the very same mask (>= 1) */
-    int mask_index;  /* this rank's place among them */
-    int omp_bound;   /* OpenMP binds threads to places (OMP_PROC_BIND): cores counts places */
-    int mpi;                    /* 1 when MPI is initialised */
+    int cores;      /* CPUs in this rank's affinity mask (OpenMP places when omp_bound) */
+    int mask_share; /* ranks of this node with the very same mask (>= 1) */
+    int mask_index; /* this rank's place among them */
+    int omp_bound;  /* OpenMP binds threads to places (OMP_PROC_BIND): cores counts places */
+    int mpi;        /* 1 when MPI is initialised */
 } rt_farm;
 
 typedef struct rt_rank_stats {
@@ -41,26 +50,39 @@ typedef struct rt_trace_event {
     double start, end; /* seconds since the render started */
 } rt_trace_event;
 
+/* What rank 0's main thread calls while the sums come in. Every hook may
+ * be NULL. committed[y] counts the samples of row y in acc; both are a
+ * consistent copy, valid during the call. */
+typedef struct rt_farm_hooks {
+    void *ctx;
+    /* Often (at least once a millisecond while results arrive): the pass
+     * being rendered (1-based), rows with every sample, ray segments. */
+    void (*progress)(void *ctx, uint32_t pass, uint64_t rows_done, uint64_t segments);
+    /* After progressive pass `pass` (1-based) of sched.passes, all but the
+     * last: every row has at least `samples` samples. */
+    void (*pass)(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
+    /* Saves the state (a checkpoint) every save_interval seconds while new
+     * samples came in, and once more when a signal stops the render.
+     * Returns a status: non-zero keeps the samples marked as unsaved. */
+    int (*save)(void *ctx, const uint32_t *committed, const int64_t *acc);
+    double save_interval;
+    /* A signal stopped the render, after the last save (saved: it
+     * succeeded); the farm then ends the job with RT_EXIT_INTERRUPTED. */
+    void (*stopped)(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows);
+} rt_farm_hooks;
+
 typedef struct rt_farm_job {
-    const rt_renderer *renderer;
+    const rt_renderer *renderer; /* its job says what to render */
     rt_sched_params sched;
-    int threads;  /* OpenMP threads of this rank */
-    int prefetch; /* units a worker keeps in flight */
-    int empty_units; /* benchmark of the farm itself: units are not rendered */
+    int threads;          /* OpenMP threads of this rank */
+    int prefetch;         /* units a worker keeps in flight */
+    int empty_units;      /* benchmark of the farm itself: units are not rendered */
     int root_serves_only; /* rank 0 serves and does not render (when size > 1) */
-    rt_progress *progress;
     /* rank 0 only: */
     int64_t *acc;              /* width*height*3 sums, preloaded on resume */
     const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
-    const char *checkpoint;    /* path, or NULL for none */
-    double checkpoint_interval;
-    rt_ckpt_id ckpt_job;
-    int trace; /* record one event per unit */
-    /* Progressive passes: called on rank 0 after pass `pass` (1-based) of
-     * sched.passes is complete, with a consistent copy of the sums; every
-     * row then has at least `samples` samples (committed[y] of them). */
-    void (*on_pass)(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
-    void *on_pass_ctx;
+    int trace;                 /* record one event per unit */
+    rt_farm_hooks hooks;
 } rt_farm_job;
 
 typedef struct rt_farm_result {
@@ -69,7 +91,7 @@ typedef struct rt_farm_result {
     rt_rank_stats *ranks; /* rank 0: one per rank (caller frees) */
     rt_trace_event *trace;
     size_t n_trace;
-    double wall;          /* seconds in rt_farm_render */
+    double wall; /* seconds in rt_farm_render */
 } rt_farm_result;
 
 int rt_farm_init(rt_farm *f, int *argc, char ***argv);
@@ -93,17 +115,17 @@ int rt_farm_default_threads(const rt_farm *f);
  * have the very same mask: ranks of one thread each that fill it are bound
  * too) and the user has not set OMP_PROC_BIND. Unbound, the render's
  * threads started rendering up to 5 to 7 ms late on the development
- * machine; bound, within 0.3 ms (see README). Never binds when threads
- * would have to share a CPU or could leave one idle, nor with RT_BIND=0.
- * Returns 1 when it bound them. */
+ * machine; bound, within 0.3 ms (docs/PERFORMANCE.md). Never binds when
+ * threads would have to share a CPU or could leave one idle, nor with
+ * RT_BIND=0. Returns 1 when it bound them. */
 int rt_farm_bind_threads(const rt_farm *f, int threads);
 
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
 /* Renders the whole image. Collective. On SIGTERM, SIGINT or SIGUSR1, rank 0
- * writes the checkpoint and the job ends with RT_EXIT_INTERRUPTED (this call
- * does not return then). */
+ * saves (hooks.save), calls hooks.stopped and the job ends with
+ * RT_EXIT_INTERRUPTED (this call does not return then). */
 int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
 
 #endif

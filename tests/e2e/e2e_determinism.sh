@@ -1,8 +1,8 @@
 #!/bin/bash
-# e2e_determinism.sh BIN SERIAL_BIN PNGINFO MPIRUN
+# e2e_determinism.sh BIN SERIAL_BIN PNGINFO MPIRUN HOOKS_BIN
 # The PNG is byte-identical for any -np, -j, --band, intersector (but
 # Embree's), with and without mpirun, and in the build without MPI.
-BIN=$1 SERIAL=$2 PNGINFO=$3 MPIRUN=${4:-}
+BIN=$1 SERIAL=$2 PNGINFO=$3 MPIRUN=${4:-} HOOKS_BIN=${5:-}
 source "$(dirname "$0")/../support/lib.sh"
 ARGS=(--width 96 --height 64 -s 4 -q)
 
@@ -65,9 +65,12 @@ if [ -n "$MPIRUN" ]; then
     check_eq "rows rendered over all ranks" "$rows" 64
     busy_ranks=$(awk '/^rank [0-9]+:/ && $3 > 0 {n++} END {print n}' "$WORK/j.out")
     check_eq "ranks that rendered bands" "$busy_ranks" 2
-    # A fatal error on one rank ends the whole job promptly, naming it.
+    # A fatal error on one rank ends the whole job promptly, naming it (the
+    # fault hook is compiled into the test build only).
+    RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$BIN" "${ARGS[@]}" -s 2 -o "$WORK/k0.png" >"$WORK/k0.out" 2>&1
+    check_eq "the production build has no fault hook (exit status)" $? 0
     start=$(date +%s)
-    RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$BIN" "${ARGS[@]}" -s 400 -o "$WORK/k.png" >"$WORK/k.out" 2>&1
+    RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$HOOKS_BIN" "${ARGS[@]}" -s 400 -o "$WORK/k.png" >"$WORK/k.out" 2>&1
     status=$?
     took=$(($(date +%s) - start))
     if [ $status -ne 0 ] && grep -q "rt-mpi: error: rank 1: fault injected" "$WORK/k.out" && [ $took -lt 30 ]; then

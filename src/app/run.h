@@ -1,0 +1,69 @@
+/* run.h - one run of the program, as main tells it: what each step needs
+ * and leaves behind. The steps live in checks.c (what rank 0 verifies
+ * before anything renders), setup.c (scene, renderer, job and its hooks)
+ * and summary.c (image file, checkpoint, summary, reports). */
+#ifndef RT_RUN_H
+#define RT_RUN_H
+
+#include <stdint.h>
+
+#include "accel.h"
+#include "checkpoint.h"
+#include "cli.h"
+#include "farm.h"
+#include "primary.h"
+#include "progress.h"
+#include "render.h"
+#include "scene.h"
+
+/* Exit codes (README "Exit codes"); RT_EXIT_INTERRUPTED (75) is the farm's. */
+#define RT_EXIT_RUNTIME 1
+#define RT_EXIT_USAGE 2
+#define RT_EXIT_CHECKPOINT 3
+
+typedef struct rt_run {
+    double t_start;
+    rt_options opt;
+    char ckpt_default[4096]; /* OUTPUT.ckpt when --checkpoint is not given */
+    rt_farm farm;
+    int root;             /* this is rank 0 */
+    int threads, bound;   /* OpenMP threads of this rank; bound one to a CPU */
+    rt_scene scene;       /* as broadcast, on every rank */
+    uint64_t scene_hash;  /* of the broadcast bytes */
+    rt_accel *accel;
+    rt_primary *primary;  /* camera-ray lists (our BVH only), or NULL */
+    rt_renderer renderer;
+    rt_ckpt_id ckpt;      /* the checkpoint's identity of this job */
+    rt_farm_job job;
+    int64_t *acc;         /* rank 0: the framebuffer of sums */
+    uint32_t *restored;   /* rank 0 on --resume: samples per row restored */
+    uint32_t rows_restored;
+    uint64_t samples_restored; /* sum over rows */
+    int ckpt_warned;      /* a failed checkpoint write was reported */
+    rt_progress progress;
+    rt_farm_result res;
+} rt_run;
+
+/* checks.c: rank 0 checks the file system and the machine, every rank its
+ * thread count; a non-zero exit code with err filled, or 0. */
+int rt_run_check(rt_run *run, char *err, size_t errlen);
+
+/* setup.c */
+/* --dump-scene: rank 0 writes the scene as JSON; an exit code. */
+int rt_run_dump_scene(const rt_options *o);
+/* Rank 0 builds (or loads) the scene and every rank receives it; an exit
+ * code, err filled on rank 0. */
+int rt_run_scene(rt_run *run, char *err, size_t errlen);
+/* Every rank: intersector, camera, camera-ray lists. Fails the job itself. */
+void rt_run_renderer(rt_run *run);
+/* The farm's job: units, threads, framebuffer, restored checkpoint, hooks.
+ * Fails the job itself. */
+void rt_run_job(rt_run *run);
+
+/* summary.c: rank 0 after the render: the image file, the checkpoint
+ * (removed or kept), the summary on stdout, --stats and --trace. */
+void rt_run_finish(rt_run *run);
+
+void rt_run_free(rt_run *run);
+
+#endif

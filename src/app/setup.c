@@ -1,0 +1,214 @@
+/* setup.c - from checked options to a job the farm can run: the scene
+ * (built or loaded on rank 0, broadcast as bytes), the renderer every rank
+ * builds from those bytes, and the farm's job with its framebuffer, the
+ * restored checkpoint and the hooks (progress, previews, checkpoints). */
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hash.h"
+#include "image_formats.h"
+#include "mem.h"
+#include "run.h"
+#include "scene_json.h"
+#include "scenes.h"
+#include "status.h"
+
+/* The scene of this run, named or from a file; an exit code. */
+static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
+{
+    int st = o->scene_file ? rt_scene_json_load(s, o->scene_file, err, errlen)
+                           : rt_scene_build_named(s, o->scene, o->job.seed, o->grid);
+    if (st && !o->scene_file)
+        snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
+    return !st ? 0 : st == RT_ENOMEM || !o->scene_file ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+}
+
+int rt_run_dump_scene(const rt_options *o)
+{
+    char err[1024] = "";
+    rt_scene s;
+    rt_scene_init(&s);
+    int code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : 0;
+    if (!code)
+        code = make_scene(o, &s, err, sizeof err);
+    if (!code) {
+        int st = rt_scene_json_dump(&s, o->dump_scene);
+        if (st) {
+            snprintf(err, sizeof err, "writing %s: %s", o->dump_scene, rt_status_str(st));
+            code = RT_EXIT_RUNTIME;
+        }
+    }
+    if (code)
+        fprintf(stderr, "rt-mpi: error: %s\n", err);
+    rt_scene_free(&s);
+    return code;
+}
+
+int rt_run_scene(rt_run *run, char *err, size_t errlen)
+{
+    /* Built (or read and checked) on rank 0 before anything renders, so a
+     * bad scene file is bad input like a bad option. */
+    rt_scene built;
+    rt_scene_init(&built);
+    int code = run->root ? make_scene(&run->opt, &built, err, errlen) : 0;
+    rt_farm_bcast_int(&run->farm, &code);
+    if (code) {
+        rt_scene_free(&built);
+        return code;
+    }
+    /* Broadcast as bytes and rebuilt from those bytes on every rank, rank 0
+     * included: every rank renders the very same scene. */
+    uint8_t *blob = NULL;
+    size_t len = 0;
+    if (run->root) {
+        int st = rt_scene_serialize(&built, &blob, &len);
+        if (st)
+            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "encoding the scene: %s", rt_status_str(st));
+        rt_scene_free(&built);
+    }
+    rt_farm_bcast_bytes(&run->farm, &blob, &len);
+    int st = rt_scene_deserialize(&run->scene, blob, len);
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
+    run->scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, len);
+    free(blob);
+    return 0;
+}
+
+void rt_run_renderer(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    int st = rt_accel_new(&run->accel, &run->scene, (rt_accel_kind)o->accel);
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(o->accel),
+                     rt_status_str(st));
+    st = rt_render_init(&run->renderer, &run->scene, run->accel, &o->job);
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_USAGE, "camera: %s", rt_status_str(st));
+    run->renderer.stop = rt_farm_stop_flag();
+    /* Our BVH also gets candidate lists for the camera rays (brute force and
+     * Embree stay as they are: the oracle and the comparison). */
+    if (rt_accel_bvh(run->accel)) {
+        st = rt_primary_build(&run->primary, &run->scene, &run->renderer.camera, o->job.width, o->job.height);
+        if (st)
+            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
+        run->renderer.primary = run->primary;
+    }
+}
+
+/* ---- hooks: what rank 0 does while the sums come in ---------------------- */
+
+static void on_progress(void *ctx, uint32_t pass, uint64_t rows_done, uint64_t segments)
+{
+    rt_run *run = ctx;
+    run->progress.pass = (int)pass;
+    rt_progress_update(&run->progress, rows_done, segments);
+}
+
+/* After each progressive pass: the preview, in the format (and bit depth)
+ * its extension names, like the output. */
+static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
+{
+    const rt_options *o = &((rt_run *)ctx)->opt;
+    const char *path = o->preview ? o->preview : o->output;
+    char info[64];
+    snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->job.samples);
+    rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
+    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, 2};
+    int st = rt_image_write_rows(path, acc, o->job.width, o->job.height, committed, &wo);
+    if (st)
+        fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
+}
+
+static int on_save(void *ctx, const uint32_t *committed, const int64_t *acc)
+{
+    rt_run *run = ctx;
+    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, committed, acc);
+    if (st && !run->ckpt_warned)
+        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
+                run->opt.checkpoint, rt_status_str(st));
+    run->ckpt_warned |= st != RT_OK;
+    return st;
+}
+
+static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows)
+{
+    rt_run *run = ctx;
+    if (run->progress.enabled && run->progress.tty)
+        fputc('\n', stderr);
+    if (run->opt.checkpoint)
+        fprintf(stderr, "rt-mpi: interrupted by signal %d: checkpoint %s %s %u of %u rows; rerun with --resume\n",
+                sig, run->opt.checkpoint, saved ? "holds" : "(not updated: see the warning above) was to hold",
+                rows_done, rows);
+    else
+        fprintf(stderr, "rt-mpi: interrupted by signal %d (no checkpoint file)\n", sig);
+    fflush(stderr);
+}
+
+/* ---- the job ----------------------------------------------------------- */
+
+/* Rank 0 owns the framebuffer of sums; a resumed run starts from the
+ * checkpoint's rows. */
+static void framebuffer(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    size_t n = (size_t)o->job.width * o->job.height * 3;
+    run->acc = rt_mem_zeroed(n * sizeof *run->acc);
+    if (!run->acc)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", o->job.width,
+                     o->job.height);
+    if (!o->resume)
+        return;
+    char err[1024] = "";
+    run->restored = calloc(o->job.height, sizeof *run->restored);
+    if (!run->restored)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory");
+    int st = rt_ckpt_read(o->checkpoint, &run->ckpt, run->restored, run->acc, &run->rows_restored, err, sizeof err);
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", o->checkpoint,
+                     err[0] ? err : rt_status_str(st));
+    for (uint32_t y = 0; y < o->job.height; y++)
+        run->samples_restored += run->restored[y];
+}
+
+void rt_run_job(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    rt_farm_job *job = &run->job;
+    run->ckpt = (rt_ckpt_id){o->job, o->accel != RT_ACCEL_EMBREE, run->scene_hash, RT_RENDER_SAMPLING};
+    memset(job, 0, sizeof *job);
+    job->renderer = &run->renderer;
+    job->sched = (rt_sched_params){.band = o->band, .max_band = 16, .ranks = (uint32_t)run->farm.size,
+                                   .units_per_rank = 8, .min_samples = 1, .passes = o->passes};
+    job->threads = run->threads;
+    job->prefetch = (int)o->prefetch;
+    job->empty_units = o->empty_units;
+    job->root_serves_only = o->serve_only;
+    job->trace = o->trace != NULL;
+    if (!run->root)
+        return;
+    framebuffer(run);
+    job->acc = run->acc;
+    job->committed = run->restored;
+    rt_progress_init(&run->progress, o->job.height, o->quiet);
+    run->progress.base_rows = run->rows_restored;
+    run->progress.passes = (int)o->passes;
+    run->progress.pass = 1;
+    job->hooks = (rt_farm_hooks){.ctx = run, .progress = on_progress, .stopped = on_stopped};
+    if (o->passes > 1)
+        job->hooks.pass = on_pass;
+    if (o->checkpoint) {
+        job->hooks.save = on_save;
+        job->hooks.save_interval = o->checkpoint_interval;
+    }
+    if (o->quiet)
+        return;
+    fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
+            o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, run->scene.n_spheres,
+            run->farm.size, run->farm.size > 1 ? "s" : "", run->threads, run->threads > 1 ? "s" : "");
+    if (o->resume)
+        fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", o->checkpoint,
+                100.0 * (double)run->samples_restored / ((double)o->job.height * o->job.samples));
+}

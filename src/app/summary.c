@@ -1,0 +1,186 @@
+/* summary.c - rank 0 after the render: the image file (with what made it in
+ * its text chunks), the checkpoint removed or kept, the summary on stdout
+ * (greppable in batch logs) and the --stats and --trace reports. */
+#include <inttypes.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "clock.h"
+#include "image.h"
+#include "image_formats.h"
+#include "mem.h"
+#include "report.h"
+#include "run.h"
+#include "status.h"
+
+/* The command that reproduces this image: every option that changes a pixel,
+ * none that only changes how the work is spread (-j, --band, ranks) or where
+ * it goes (-o), so the file is byte-identical however it was rendered. */
+static void repro_command(const rt_options *o, char *buf, size_t n)
+{
+    char scene[320], grid[32] = "", format[48] = "";
+    if (o->scene_file)
+        snprintf(scene, sizeof scene, "--scene-file %s", o->scene_file);
+    else
+        snprintf(scene, sizeof scene, "--scene %s", o->scene);
+    if (!o->scene_file && !strcmp(o->scene, "final")) /* the only scene --grid shapes */
+        snprintf(grid, sizeof grid, " --grid %d", o->grid);
+    if (o->bit_depth != 8 || o->ppm_ascii)
+        snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
+                 o->ppm_ascii ? " --ppm-ascii" : "");
+    snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
+             " --diffuse %s --accel %s%s",
+             scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
+             rt_diffuse_name(o->job.diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
+}
+
+/* A checkpoint that holds the whole finished image (every row complete). */
+static int save_finished(const rt_run *run)
+{
+    const rt_job *j = &run->opt.job;
+    uint32_t *all = malloc(j->height * sizeof *all);
+    if (!all)
+        return RT_ENOMEM;
+    for (uint32_t y = 0; y < j->height; y++)
+        all[y] = j->samples;
+    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, all, run->acc);
+    free(all);
+    return st;
+}
+
+/* The output file; on failure the finished sums go to the checkpoint, so
+ * that a resume only has to write the image. */
+static void write_image(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
+    snprintf(seed_s, sizeof seed_s, "%" PRIu64, o->job.seed);
+    snprintf(sampling_s, sizeof sampling_s, "%u", RT_RENDER_SAMPLING);
+    snprintf(spp_s, sizeof spp_s, "%u", o->job.samples);
+    repro_command(o, cmdline, sizeof cmdline);
+    rt_text text[] = {
+        {"Software", "rt-mpi " RT_VERSION},
+        {"rt-mpi:seed", seed_s},
+        {"rt-mpi:samples", spp_s},
+        {"rt-mpi:command", cmdline},
+        /* Which random numbers the samples drew: the command reproduces
+         * this image only with a build of the same sampling version. */
+        {"rt-mpi:sampling", sampling_s},
+    };
+    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
+    int st = rt_image_write(o->output, run->acc, o->job.width, o->job.height, o->job.samples, &wo);
+    if (st) {
+        const char *saved = "";
+        if (o->checkpoint && save_finished(run) == RT_OK)
+            saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", o->output, rt_status_str(st), saved);
+    }
+    if (o->checkpoint && !o->keep_checkpoint)
+        unlink(o->checkpoint);
+    else if (o->checkpoint && (st = save_finished(run)) != RT_OK)
+        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", o->checkpoint, rt_status_str(st));
+}
+
+static void print_intersector(const rt_run *run)
+{
+    const char *box_test = rt_accel_box_test(run->accel);
+    printf("intersector:   %s (%s%s", rt_accel_name(run->opt.accel), box_test ? box_test : "",
+           box_test ? " box test, " : "");
+    if (run->renderer.bvh_avx)
+        printf("packets of %d rays, ", RT_RENDER_PACKET);
+    if (run->primary) {
+        uint32_t tiles, listed;
+        size_t cand;
+        rt_primary_stats(run->primary, &tiles, &listed, &cand);
+        printf("camera-ray lists on %u of %u tiles, ", listed, tiles);
+    }
+    printf("%.0f KiB)\n", (rt_accel_bytes(run->accel) + rt_primary_bytes(run->primary)) / 1024.0);
+}
+
+static void print_summary(const rt_run *run, uint64_t hash)
+{
+    const rt_options *o = &run->opt;
+    const rt_job *j = &o->job;
+    const rt_farm_result *res = &run->res;
+    const int ranks = run->farm.size;
+    printf("output:        %s\n", o->output);
+    printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", j->width, j->height, j->samples,
+           j->max_depth, j->seed);
+    if (o->scene_file)
+        printf("scene:         file %s", o->scene_file);
+    else if (!strcmp(o->scene, "final"))
+        printf("scene:         final, grid %d", o->grid);
+    else
+        printf("scene:         %s", o->scene);
+    printf(", %u spheres, hash %016" PRIx64 "\n", run->scene.n_spheres, run->scene_hash);
+    print_intersector(run);
+    printf("ranks:         %d x %d threads%s, %u units", ranks, run->threads, run->bound ? " (one per CPU, bound)" : "",
+           res->units);
+    if (run->samples_restored)
+        printf(", %.1f%% of the samples restored from %s (%u complete rows)",
+               100.0 * (double)run->samples_restored / ((double)j->height * j->samples), o->checkpoint,
+               run->rows_restored);
+    printf("\n");
+    printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - run->t_start);
+    printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res->segments,
+           res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
+    double lo = res->ranks[0].maxrss_mb, hi = lo;
+    for (int i = 1; i < ranks; i++) {
+        lo = res->ranks[i].maxrss_mb < lo ? res->ranks[i].maxrss_mb : lo;
+        hi = res->ranks[i].maxrss_mb > hi ? res->ranks[i].maxrss_mb : hi;
+    }
+    printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank\n", res->ranks[0].maxrss_mb, lo, hi);
+    for (int i = 0; i < ranks && ranks > 1; i++) {
+        const rt_rank_stats *r = &res->ranks[i];
+        printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
+               "%.3f M segments/s\n",
+               i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0);
+    }
+    printf("image hash:    %016" PRIx64 "\n", hash);
+    fflush(stdout);
+}
+
+static void write_reports(const rt_run *run, uint64_t hash)
+{
+    const rt_options *o = &run->opt;
+    const rt_farm_result *res = &run->res;
+    rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
+                          run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
+                          rt_now() - run->t_start, res->segments, res->ranks};
+    int st;
+    if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
+        fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));
+    if (o->trace && (st = rt_report_trace(o->trace, res->trace, res->n_trace, run->farm.size)) != RT_OK)
+        fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->trace, rt_status_str(st));
+}
+
+void rt_run_finish(rt_run *run)
+{
+    const rt_job *j = &run->opt.job;
+    size_t npix = (size_t)j->width * j->height;
+    rt_progress_finish(&run->progress, run->res.segments);
+    /* The image hash: of the 8-bit image, whatever the output format. */
+    uint8_t *rgb = malloc(npix * 3);
+    if (!rgb)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the output image");
+    rt_image_to_rgb8(run->acc, npix, j->samples, rgb);
+    uint64_t hash = rt_image_hash(rgb, npix * 3);
+    free(rgb);
+    write_image(run);
+    print_summary(run, hash);
+    write_reports(run, hash);
+}
+
+void rt_run_free(rt_run *run)
+{
+    const rt_job *j = &run->opt.job;
+    rt_mem_free(run->acc, (size_t)j->width * j->height * 3 * sizeof *run->acc);
+    free(run->restored);
+    free(run->res.ranks);
+    free(run->res.trace);
+    rt_primary_free(run->primary);
+    rt_accel_free(run->accel);
+    rt_scene_free(&run->scene);
+}

@@ -1,0 +1,126 @@
+/* assemble.c - rank 0's result assembly (see assemble.h). */
+#include "assemble.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "array.h"
+#include "status.h"
+
+struct rt_pending {
+    rt_unit unit;
+    int64_t *sums;
+};
+
+int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p, const uint32_t *committed,
+                     int64_t *acc, int ranks, int tracing)
+{
+    memset(a, 0, sizeof *a);
+    int st = rt_sched_init(&a->sched, job, p, committed);
+    if (st)
+        return st;
+    a->width = job->width;
+    a->acc = acc;
+    a->ranks = ranks;
+    a->tracing = tracing;
+    a->stats = calloc((size_t)(ranks > 0 ? ranks : 1), sizeof *a->stats);
+    if (!a->stats) {
+        rt_sched_free(&a->sched);
+        return RT_ENOMEM;
+    }
+    return RT_OK;
+}
+
+void rt_assembly_free(rt_assembly *a)
+{
+    for (size_t i = 0; i < a->n_pending; i++)
+        free(a->pending[i].sums);
+    free(a->pending);
+    free(a->stats);
+    free(a->trace);
+    rt_sched_free(&a->sched);
+    memset(a, 0, sizeof *a);
+}
+
+size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * a->width * 3; }
+
+int rt_assembly_complete(const rt_assembly *a) { return a->sched.units_done == a->sched.n_units; }
+
+void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, uint64_t segs, double start,
+                       double end)
+{
+    st->units++;
+    st->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / samples;
+    st->segments += (double)segs;
+    st->busy += end - start;
+}
+
+static size_t unit_len(const rt_assembly *a, const rt_unit *u) { return (size_t)(u->y1 - u->y0) * a->width * 3; }
+
+static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums)
+{
+    size_t n = unit_len(a, u);
+    int64_t *dst = a->acc + (size_t)u->y0 * a->width * 3;
+    for (size_t i = 0; i < n; i++)
+        dst[i] += sums[i];
+    rt_sched_commit(&a->sched, u);
+    a->dirty = 1;
+    /* A progressive pass is complete when every row has its samples (an
+     * O(height) scan, so only in progressive runs). */
+    const rt_sched *sc = &a->sched;
+    while (sc->passes > 1 && a->passes_done < sc->passes &&
+           rt_sched_min_committed(sc) >= rt_sched_pass_end(sc, a->passes_done)) {
+        a->passes_done++;
+        a->pass_ready = 1;
+    }
+}
+
+/* Commits every waiting unit that can be, until none can: a commit may
+ * unblock an entry already passed over. The list never holds more than
+ * the units in flight. */
+static void commit_pending(rt_assembly *a)
+{
+    for (size_t i = 0; i < a->n_pending;) {
+        if (rt_sched_can_commit(&a->sched, &a->pending[i].unit)) {
+            commit(a, &a->pending[i].unit, a->pending[i].sums);
+            free(a->pending[i].sums);
+            a->pending[i] = a->pending[--a->n_pending];
+            i = 0;
+        } else {
+            i++;
+        }
+    }
+}
+
+static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums)
+{
+    size_t n = unit_len(a, u);
+    int64_t *copy = malloc(n * sizeof *copy);
+    if (!copy || rt_array_reserve((void **)&a->pending, &a->cap_pending, a->n_pending + 1, sizeof *a->pending)) {
+        free(copy);
+        return RT_ENOMEM;
+    }
+    memcpy(copy, sums, n * sizeof *copy);
+    a->pending[a->n_pending].unit = *u;
+    a->pending[a->n_pending++].sums = copy;
+    return RT_OK;
+}
+
+int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                    double end)
+{
+    int st = RT_OK;
+    if (rt_sched_can_commit(&a->sched, u)) {
+        commit(a, u, sums);
+        commit_pending(a);
+    } else {
+        st = keep(a, u, sums);
+    }
+    a->segments += segs;
+    if (rank >= 0 && rank < a->ranks)
+        rt_rank_stats_add(&a->stats[rank], u, a->sched.samples, segs, start, end);
+    /* Out of memory for the trace: it misses events, the render goes on. */
+    if (a->tracing && rt_array_reserve((void **)&a->trace, &a->cap_trace, a->n_trace + 1, sizeof *a->trace) == RT_OK)
+        a->trace[a->n_trace++] = (rt_trace_event){rank, *u, start, end};
+    return st;
+}

@@ -1,0 +1,57 @@
+/* assemble.h - rank 0's result assembly: a finished unit's sums go into the
+ * image in commit order (schedule.h), early arrivals wait, progressive
+ * passes are noticed, and every rank's work is accounted. No MPI, no
+ * threads (the caller locks), no I/O: tests/unit/test_assemble.c drives it
+ * with units in any order. */
+#ifndef RT_ASSEMBLE_H
+#define RT_ASSEMBLE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "farm.h"
+#include "job.h"
+#include "schedule.h"
+
+typedef struct rt_assembly {
+    rt_sched sched;
+    uint32_t width;
+    int64_t *acc; /* the caller's framebuffer: width*height*3 sums */
+    struct rt_pending *pending; /* units that arrived before their predecessors */
+    size_t n_pending, cap_pending;
+    uint64_t segments;
+    rt_rank_stats *stats; /* one per rank */
+    int ranks;
+    rt_trace_event *trace; /* one per unit when tracing */
+    size_t n_trace, cap_trace;
+    int tracing;
+    uint32_t passes_done; /* progressive passes complete */
+    int pass_ready;       /* a pass completed since the flag was cleared */
+    int dirty;            /* samples committed since the flag was cleared */
+} rt_assembly;
+
+/* Plans the units (rt_sched_init) and sets up the accounting for `ranks`
+ * ranks. acc may hold restored sums, committed their counts (or NULL). */
+int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p, const uint32_t *committed,
+                     int64_t *acc, int ranks, int tracing);
+void rt_assembly_free(rt_assembly *a);
+
+/* Unit u's sums (laid out as rt_render_rows' acc), rendered by rank from
+ * start to end (seconds) in segs ray segments. Adds them now if they can be
+ * committed, with every waiting unit they unblock, else keeps a copy.
+ * RT_ENOMEM when no copy can be kept (the sums are then lost). */
+int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                    double end);
+
+/* Every unit is in the image. */
+int rt_assembly_complete(const rt_assembly *a);
+
+/* Sums in the framebuffer. */
+size_t rt_assembly_len(const rt_assembly *a);
+
+/* Adds one unit to a rank's account: units, rows (a row at all samples
+ * counts 1), segments and busy time. */
+void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, uint64_t segs, double start,
+                       double end);
+
+#endif

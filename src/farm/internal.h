@@ -1,0 +1,59 @@
+/* internal.h - what the farm's files share; no other layer includes it. */
+#ifndef RT_FARM_INTERNAL_H
+#define RT_FARM_INTERNAL_H
+
+#include <pthread.h>
+
+#include "assemble.h"
+#include "farm.h"
+
+/* start.c: the signal handlers. */
+void rt_farm_signals_install(void);
+#define RT_FARM_STOPPED() (*rt_farm_stop_flag())
+
+/* place.c: this rank's CPUs (before MPI), then which ranks of its node
+ * share the very same mask (after MPI_Init; no-op without MPI). */
+void rt_farm_place_init(rt_farm *f);
+void rt_farm_place_share(rt_farm *f);
+
+/* stream.c: runs every unit of src: rendered (rt_render_stream), or, with
+ * job->empty_units, handed to done as zero sums without rendering (a
+ * benchmark of the farm itself). A status. */
+int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
+/* A unit's place in a rank's busy time and trace: units overlap in a
+ * stream, so each counts from when it was taken or the previous unit was
+ * done, whichever is later, and every moment counts once. *last is when
+ * the previous unit was done; it becomes end. */
+double rt_farm_unit_start(double taken, double *last, double end);
+/* Peak resident memory of this process in MB. */
+double rt_farm_maxrss_mb(void);
+
+/* root.c: rank 0's state, shared by its render thread and its main thread
+ * (the server). Everything in it is guarded by mu. */
+typedef struct rt_root {
+    pthread_mutex_t mu;
+    const rt_farm_job *job;
+    rt_assembly as;
+    double t0;        /* the render's time origin */
+    double last_save; /* when hooks.save last ran */
+    int serial;       /* no server: the render loop calls the hooks itself */
+    int error;        /* a status: rendering on rank 0 failed */
+} rt_root;
+
+/* The next unit for anyone (0 once all are out, or stopping). */
+int rt_root_take(rt_root *R, rt_unit *u);
+/* A finished unit from rank: into the image in commit order. */
+void rt_root_add(rt_root *R, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                 double end);
+/* Main thread: progress, previews and periodic saves, as due. */
+void rt_root_tick(rt_root *R);
+
+#ifdef RT_HAVE_MPI
+/* server.c: rank 0's main thread hands out units and takes in results
+ * until every rank is done (returns early on a signal). */
+void rt_farm_serve(const rt_farm *f, rt_root *R);
+/* worker.c: a rank other than 0 renders the units rank 0 sends. */
+void rt_farm_work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
+#endif
+
+#endif

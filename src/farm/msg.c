@@ -1,0 +1,38 @@
+/* msg.c - the farm's wire (see msg.h). */
+#include "msg.h"
+
+#include <time.h>
+
+void rt_msg_nap(int *idle)
+{
+    long ns = 50000L << (*idle < 5 ? *idle : 5);
+    if (ns > 1000000L)
+        ns = 1000000L;
+    struct timespec ts = {0, ns};
+    nanosleep(&ts, NULL);
+    (*idle)++;
+}
+
+/* Open MPI's ob1 often pulls a message in on one MPI_Iprobe and reports it
+ * on the next: probe twice before going to sleep, or every message costs a
+ * back-off period (measured: 3.3 ms -> 0.4 ms per round trip). */
+int rt_msg_probe(int source, int *flag, MPI_Status *status)
+{
+    int rc = MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, flag, status);
+    if (rc == MPI_SUCCESS && !*flag)
+        rc = MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, flag, status);
+    return rc;
+}
+
+void rt_msg_send_unit(const rt_farm *f, int dest, const rt_unit *u)
+{
+    uint32_t msg[5] = {u->id, u->y0, u->y1, u->s0, u->s1};
+    if (MPI_Send(msg, 5, MPI_UINT32_T, dest, RT_TAG_UNIT, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(f, 1, "MPI_Send of a work unit to rank %d failed", dest);
+}
+
+void rt_msg_send_done(const rt_farm *f, int dest)
+{
+    if (MPI_Send(NULL, 0, MPI_UINT32_T, dest, RT_TAG_DONE, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(f, 1, "MPI_Send to rank %d failed", dest);
+}

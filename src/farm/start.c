@@ -1,0 +1,169 @@
+/* start.c - the farm's start and end: MPI start-up (only under a
+ * launcher), failure and exit for the whole job, the scene broadcast, and
+ * the signal handlers every render loop watches. */
+#include "internal.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#ifdef RT_HAVE_MPI
+#include <mpi.h>
+#endif
+
+#include "status.h"
+
+/* Set by the signal handler; every render loop watches it. */
+static volatile sig_atomic_t g_stop;
+
+static void on_signal(int sig) { g_stop = sig; }
+
+void rt_farm_signals_install(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGUSR1, &sa, NULL);
+}
+
+const volatile sig_atomic_t *rt_farm_stop_flag(void) { return &g_stop; }
+
+#ifdef RT_HAVE_MPI
+/* Whether an MPI launcher started this process: mpirun (Open MPI, MPICH,
+ * Intel MPI, MVAPICH) and srun with a PMI or PMIx plugin all leave one of
+ * these in the environment. A process started by hand is a job of one rank
+ * and needs no MPI: Open MPI would start it as a singleton, which forks an
+ * orted and costs ~0.4 s of every command here. RT_MPI_INIT=1 forces
+ * MPI_Init for a launcher this list does not know, 0 skips it. */
+static int launched_by_mpi(void)
+{
+    static const char *const vars[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE", "PMI_FD",
+                                       "PMI_PORT", "MPI_LOCALNRANKS", "MV2_COMM_WORLD_RANK"};
+    const char *force = getenv("RT_MPI_INIT");
+    if (force && *force)
+        return strcmp(force, "0") != 0;
+    for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
+        if (getenv(vars[i]))
+            return 1;
+    return 0;
+}
+#endif
+
+int rt_farm_init(rt_farm *f, int *argc, char ***argv)
+{
+    memset(f, 0, sizeof *f);
+    f->size = f->mask_share = 1;
+    rt_farm_place_init(f);
+#ifdef RT_HAVE_MPI
+    if (!launched_by_mpi())
+        return RT_OK;
+    int provided = 0;
+    if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
+        return RT_EIO;
+    f->mpi = 1;
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &f->rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &f->size);
+    rt_farm_place_share(f);
+    if (provided < MPI_THREAD_FUNNELED) {
+        /* Only the main thread ever calls MPI, but with a lower level we
+         * must not even run a second thread on rank 0. */
+        if (f->size > 1)
+            rt_farm_fail(f, 1, "MPI library provides no MPI_THREAD_FUNNELED support");
+    }
+#else
+    (void)argc;
+    (void)argv;
+#endif
+    return RT_OK;
+}
+
+void rt_farm_finalize(rt_farm *f)
+{
+#ifdef RT_HAVE_MPI
+    if (f->mpi)
+        MPI_Finalize();
+#endif
+    f->mpi = 0;
+}
+
+void rt_farm_exit(const rt_farm *f, int code)
+{
+    fflush(stdout);
+    fflush(stderr);
+#ifdef RT_HAVE_MPI
+    /* Other ranks may be mid-render: a non-zero exit makes mpirun end them
+     * (MPI_Abort would add its banner to an expected, documented stop). */
+    if (f->mpi && f->size > 1)
+        _exit(code);
+    if (f->mpi)
+        MPI_Finalize();
+#else
+    (void)f;
+#endif
+    exit(code);
+}
+
+void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...)
+{
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (f->size > 1)
+        fprintf(stderr, "rt-mpi: error: rank %d: %s\n", f->rank, msg);
+    else
+        fprintf(stderr, "rt-mpi: error: %s\n", msg);
+    fflush(stderr);
+#ifdef RT_HAVE_MPI
+    if (f->mpi && f->size > 1)
+        MPI_Abort(MPI_COMM_WORLD, code);
+    if (f->mpi)
+        MPI_Finalize();
+#endif
+    exit(code);
+}
+
+void rt_farm_bcast_int(const rt_farm *f, int *v)
+{
+#ifdef RT_HAVE_MPI
+    if (f->mpi && f->size > 1 && MPI_Bcast(v, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(f, 1, "MPI_Bcast failed");
+#else
+    (void)f;
+    (void)v;
+#endif
+}
+
+int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len)
+{
+#ifdef RT_HAVE_MPI
+    if (!f->mpi || f->size == 1)
+        return RT_OK;
+    unsigned long long n = f->rank == 0 ? (unsigned long long)*len : 0;
+    if (MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(f, 1, "MPI_Bcast failed");
+    if (n > (unsigned long long)INT32_MAX)
+        rt_farm_fail(f, 1, "scene of %llu bytes is too large to broadcast", n);
+    if (f->rank != 0) {
+        *buf = malloc(n ? n : 1);
+        if (!*buf)
+            rt_farm_fail(f, 1, "out of memory for the %llu-byte scene", n);
+        *len = (size_t)n;
+    }
+    if (MPI_Bcast(*buf, (int)n, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(f, 1, "MPI_Bcast of the scene failed");
+#else
+    (void)f;
+    (void)buf;
+    (void)len;
+#endif
+    return RT_OK;
+}
+
