@@ -1,8 +1,9 @@
 #!/bin/bash
 # ab_bvh.sh [REV | FILE.c] [WIDTH [SAMPLES [ROUNDS]]]
-# Decide a BVH change by measurement: times the working tree's src/bvh.c
-# against src/bvh.c at git revision REV (default HEAD), or against FILE.c
-# (each with its own bvh_traverse.h and sphere.h, see below),
+# Decide a BVH change by measurement: times the working tree's BVH
+# (src/core/bvh.c and bvh_build.c) against the one at git revision REV
+# (default HEAD), or against FILE.c (a bvh.c, with the bvh_build.c and
+# headers beside it, see below),
 # on the same rays in one process, alternating rounds (tests/ab_bvh.c), and
 # fails if the two find different hits. CMake builds both into the target
 # ab_bvh with the release flags of the core (-O3, no -march, no FMA
@@ -15,15 +16,20 @@ B=${1:-HEAD}
 [ $# -gt 0 ] && shift
 BUILD=${AB_BUILD_DIR:-$ROOT/build-ab}
 mkdir -p "$BUILD"
-# The headers of B's bvh.c that B may have changed (the traversal template
-# bvh_traverse.h, the sphere test sphere.h) go beside it, where its
+# B's sources: bvh.c, and bvh_build.c where B has one (revisions before the
+# build moved out of bvh.c have none: their bvh.c is the whole BVH). The
+# headers B may have changed (the layout bvh_node.h, the traversal template
+# bvh_traverse.h, the sphere test sphere.h) go beside them, where their
 # #include finds them before src/'s: REV's, or the ones beside FILE.c; the
 # working tree's where there are none.
-HEADERS="bvh_traverse.h sphere.h"
+HEADERS="bvh_node.h bvh_traverse.h sphere.h"
+rm -f "$BUILD/b_bvh_build.c.new"
 if [ -f "$B" ]; then
+    D=$(dirname "$B")
     cp "$B" "$BUILD/b_bvh.c.new"
+    [ -f "$D/bvh_build.c" ] && cp "$D/bvh_build.c" "$BUILD/b_bvh_build.c.new"
     for h in $HEADERS; do
-        T=$(dirname "$B")/$h
+        T=$D/$h
         [ -f "$T" ] || T=$ROOT/src/core/$h
         cp "$T" "$BUILD/$h.new"
     done
@@ -32,9 +38,16 @@ else
     D=src/core
     git -C "$ROOT" cat-file -e "$B:$D/bvh.c" 2>/dev/null || D=src
     git -C "$ROOT" show "$B:$D/bvh.c" >"$BUILD/b_bvh.c.new" || { echo "ab_bvh.sh: no bvh.c at '$B'" >&2; exit 2; }
+    git -C "$ROOT" show "$B:$D/bvh_build.c" >"$BUILD/b_bvh_build.c.new" 2>/dev/null || rm -f "$BUILD/b_bvh_build.c.new"
     for h in $HEADERS; do
         git -C "$ROOT" show "$B:$D/$h" >"$BUILD/$h.new" 2>/dev/null || cp "$ROOT/src/core/$h" "$BUILD/$h.new"
     done
+fi
+B_SOURCES="$BUILD/b_bvh.c"
+if [ -f "$BUILD/b_bvh_build.c.new" ]; then
+    B_SOURCES+=";$BUILD/b_bvh_build.c"
+else
+    rm -f "$BUILD/b_bvh_build.c"
 fi
 # Each file replaces the build's copy only when it changed, so make does
 # not recompile B for nothing; a changed header gives B a fresh copy too, so
@@ -47,10 +60,11 @@ replace_if_changed() { # file: install file.new as file; status 0 when it change
     mv "$1.new" "$1"
 }
 for h in $HEADERS; do
-    replace_if_changed "$BUILD/$h" && rm -f "$BUILD/b_bvh.c"
+    replace_if_changed "$BUILD/$h" && rm -f "$BUILD/b_bvh.c" "$BUILD/b_bvh_build.c"
 done
 replace_if_changed "$BUILD/b_bvh.c" || true
+[ -f "$BUILD/b_bvh_build.c.new" ] && { replace_if_changed "$BUILD/b_bvh_build.c" || true; }
 RT_BUILD_TARGET=ab_bvh "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF -DRT_MPI=OFF -DBUILD_TESTING=OFF \
-    -DRT_AB_BVH_B="$BUILD/b_bvh.c" >/dev/null 2>"$BUILD/build.log" || { cat "$BUILD/build.log" >&2; exit 2; }
+    -DRT_AB_BVH_B="$B_SOURCES" >/dev/null 2>"$BUILD/build.log" || { cat "$BUILD/build.log" >&2; exit 2; }
 echo "B = ${B}"
 "$BUILD/ab_bvh" "$@"

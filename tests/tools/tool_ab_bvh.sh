@@ -10,12 +10,14 @@ AB=(bash "$ROOT/tools/ab_bvh.sh")
 "${AB[@]}" "$ROOT/src/core/bvh.c" 40 1 1 >"$WORK/same.out" 2>&1
 check_eq "same bvh.c: exit status" $? 0
 grep -q "A / B speed" "$WORK/same.out" && pass "prints the speed ratio" || fail "no ratio: $(tail -3 "$WORK/same.out")"
+mkdir -p "$WORK/broken"
+cp "$ROOT/src/core/bvh_build.c" "$WORK/broken/"
 sed '/^static inline int test_spheres/,/^}/ s/i < count;/i + 1 < count;/' \
-    "$ROOT/src/core/bvh.c" >"$WORK/broken_bvh.c"
-if cmp -s "$ROOT/src/core/bvh.c" "$WORK/broken_bvh.c"; then
-    fail "the leaf loop to break was not found in src/bvh.c"
+    "$ROOT/src/core/bvh.c" >"$WORK/broken/bvh.c"
+if cmp -s "$ROOT/src/core/bvh.c" "$WORK/broken/bvh.c"; then
+    fail "the leaf loop to break was not found in src/core/bvh.c"
 else
-    "${AB[@]}" "$WORK/broken_bvh.c" 40 1 1 >"$WORK/broken.out" 2>&1
+    "${AB[@]}" "$WORK/broken/bvh.c" 40 1 1 >"$WORK/broken.out" 2>&1
     status=$?
     if [ $status -ne 0 ] && grep -q "A and B disagree on" "$WORK/broken.out"; then
         pass "a broken B is caught: $(grep -o 'disagree on.*' "$WORK/broken.out")"
