@@ -9,7 +9,7 @@
 
 #include "accel.h"
 #include "fileio.h"
-#include "image_formats.h"
+#include "image_write.h"
 #include "material.h"
 #include "render.h" /* RT_MAX_SAMPLES */
 #include "scenes.h"

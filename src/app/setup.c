@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "hash.h"
-#include "image_formats.h"
+#include "image_write.h"
 #include "mem.h"
 #include "run.h"
 #include "scene_json.h"

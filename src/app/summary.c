@@ -9,7 +9,7 @@
 
 #include "clock.h"
 #include "image.h"
-#include "image_formats.h"
+#include "image_write.h"
 #include "mem.h"
 #include "report.h"
 #include "run.h"

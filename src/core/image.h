@@ -1,5 +1,5 @@
 /* image.h - turning accumulated fixed-point sums into output pixels, and
- * fingerprinting them. No file formats here (see image_io.h): the core
+ * fingerprinting them. No file formats here (see io/image_write.h): the core
  * library stays free of libpng. */
 #ifndef RT_IMAGE_H
 #define RT_IMAGE_H

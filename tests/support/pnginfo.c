@@ -7,7 +7,6 @@
 #include <string.h>
 
 #include "image.h"
-#include "image_io.h"
 #include "readers.h"
 
 static void print_chunk(void *arg, const char *key, const char *text)
@@ -33,7 +32,7 @@ int main(int argc, char **argv)
     }
     uint8_t *rgb;
     uint32_t w, h;
-    if (rt_png_read(path, &rgb, &w, &h) != 0) {
+    if (test_read_png8(path, &rgb, &w, &h) != 0) {
         fprintf(stderr, "pnginfo: %s: not a readable 8-bit RGB PNG\n", path);
         return 1;
     }

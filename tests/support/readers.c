@@ -29,16 +29,18 @@ int test_read_png_text(const char *path, void (*fn)(void *arg, const char *key, 
     return rc;
 }
 
-int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h)
+/* An RGB PNG of the given bit depth, no transforms: samples as stored
+ * (16-bit ones big-endian in the file, host order in *out). */
+static int read_png_rgb(const char *path, int depth, void **out_rgb, uint32_t *w, uint32_t *h)
 {
-    *rgb = NULL;
+    *out_rgb = NULL;
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return -1;
     png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     uint8_t *volatile row = NULL;
-    uint16_t *volatile out = NULL;
+    uint8_t *volatile out = NULL;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_read_struct(&png, &info, NULL);
         fclose(fp);
@@ -48,26 +50,48 @@ int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h)
     }
     png_init_io(png, fp);
     png_read_info(png, info);
-    if (png_get_bit_depth(png, info) != 16 || png_get_color_type(png, info) != PNG_COLOR_TYPE_RGB ||
+    if (png_get_bit_depth(png, info) != depth || png_get_color_type(png, info) != PNG_COLOR_TYPE_RGB ||
         png_get_interlace_type(png, info) != PNG_INTERLACE_NONE)
-        png_error(png, "not a 16-bit RGB PNG");
+        png_error(png, "not an RGB PNG of the expected depth");
     *w = png_get_image_width(png, info);
     *h = png_get_image_height(png, info);
-    row = malloc((size_t)*w * 6);
-    out = malloc((size_t)*w * *h * 3 * sizeof *out);
+    const size_t bytes = (size_t)depth / 8, n = (size_t)*w * 3;
+    row = malloc(n * bytes);
+    out = malloc(n * *h * bytes);
     if (!row || !out)
         png_error(png, "out of memory");
     for (uint32_t y = 0; y < *h; y++) {
-        png_read_row(png, row, NULL); /* no transforms: big-endian samples as stored */
-        for (size_t i = 0; i < (size_t)*w * 3; i++)
-            out[(size_t)y * *w * 3 + i] = (uint16_t)(row[2 * i] << 8 | row[2 * i + 1]);
+        png_read_row(png, row, NULL);
+        if (depth == 8) {
+            memcpy(out + (size_t)y * n, row, n);
+            continue;
+        }
+        uint16_t *dst = (uint16_t *)out + (size_t)y * n;
+        for (size_t i = 0; i < n; i++)
+            dst[i] = (uint16_t)(row[2 * i] << 8 | row[2 * i + 1]);
     }
     png_read_end(png, NULL);
     png_destroy_read_struct(&png, &info, NULL);
     fclose(fp);
     free(row);
-    *rgb = out;
+    *out_rgb = out;
     return 0;
+}
+
+int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h)
+{
+    void *p;
+    int r = read_png_rgb(path, 16, &p, w, h);
+    *rgb = p;
+    return r;
+}
+
+int test_read_png8(const char *path, uint8_t **rgb, uint32_t *w, uint32_t *h)
+{
+    void *p;
+    int r = read_png_rgb(path, 8, &p, w, h);
+    *rgb = p;
+    return r;
 }
 
 int test_read_exr(const char *path, float **rgb, uint32_t *w, uint32_t *h)

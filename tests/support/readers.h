@@ -6,6 +6,8 @@
 
 #include <stdint.h>
 
+/* 8-bit RGB PNG; *rgb is malloc'd. 0 on success. */
+int test_read_png8(const char *path, uint8_t **rgb, uint32_t *w, uint32_t *h);
 /* 16-bit RGB PNG; *rgb is malloc'd host-order samples. 0 on success. */
 int test_read_png16(const char *path, uint16_t **rgb, uint32_t *w, uint32_t *h);
 /* Calls fn(arg, key, text) for each text chunk before the image data.

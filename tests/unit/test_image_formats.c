@@ -13,7 +13,7 @@
 
 #include "check.h"
 #include "image.h"
-#include "image_formats.h"
+#include "image_write.h"
 #include "readers.h"
 #include "render.h"
 #include "rng.h"

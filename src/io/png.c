@@ -1,4 +1,4 @@
-/* image_png.c - PNG encoding and decoding with libpng; every libpng error
+/* png.c - PNG through libpng, 8 or 16 bits with text chunks; every libpng error
  * is caught (setjmp) and turned into a status, and a failed write leaves no
  * file behind. */
 #include <errno.h>
@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "fileio.h"
-#include "image_io.h"
+#include "formats.h"
 #include "status.h"
 
 static void png_err(png_structp png, png_const_charp msg)
@@ -71,44 +71,9 @@ int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t hei
     return rt_atomic_commit(&f);
 }
 
-int rt_png_read(const char *path, uint8_t **rgb, uint32_t *width, uint32_t *height)
+static int write_png(const char *path, const void *px, uint32_t width, uint32_t height, const rt_image_write_opts *o)
 {
-    *rgb = NULL;
-    FILE *fp = fopen(path, "rb");
-    if (!fp)
-        return RT_EIO;
-    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, png_err, png_warn);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    uint8_t *volatile buf = NULL;
-    if (!png || !info) {
-        png_destroy_read_struct(&png, &info, NULL);
-        fclose(fp);
-        return RT_ENOMEM;
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_read_struct(&png, &info, NULL);
-        fclose(fp);
-        free(buf);
-        return RT_EPNG;
-    }
-    png_init_io(png, fp);
-    png_read_info(png, info);
-    uint32_t w = png_get_image_width(png, info), h = png_get_image_height(png, info);
-    if (png_get_bit_depth(png, info) != 8 || png_get_color_type(png, info) != PNG_COLOR_TYPE_RGB) {
-        png_destroy_read_struct(&png, &info, NULL);
-        fclose(fp);
-        return RT_EUNSUPPORTED;
-    }
-    buf = malloc((size_t)w * h * 3);
-    if (!buf)
-        png_longjmp(png, 1);
-    for (uint32_t y = 0; y < h; y++)
-        png_read_row(png, buf + (size_t)y * w * 3, NULL);
-    png_read_end(png, NULL);
-    png_destroy_read_struct(&png, &info, NULL);
-    fclose(fp);
-    *rgb = buf;
-    *width = w;
-    *height = h;
-    return RT_OK;
+    return rt_png_write(path, px, width, height, o->bit_depth, o->text, o->n_text);
 }
+
+const rt_format rt_format_png = {RT_FORMAT_PNG, ".png", 0, 1, write_png};

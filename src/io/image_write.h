@@ -1,14 +1,13 @@
-/* image_formats.h - every output format, chosen by the file's extension:
+/* image_write.h - every output format, chosen by the file's extension:
  * PNG (8/16-bit, libpng), PPM (binary P6 or the book's ASCII P3, 8/16-bit),
  * BMP (24-bit uncompressed), PFM and OpenEXR (linear float radiance,
- * unclamped, for compositing). Every writer is atomic: the file appears
- * complete or not at all. */
-#ifndef RT_IMAGE_FORMATS_H
-#define RT_IMAGE_FORMATS_H
+ * unclamped, for compositing). One dispatcher (image_write.c), one file per
+ * format (png.c, ppm.c, bmp.c, pfm.c, exr.c). Every writer is atomic: the
+ * file appears complete or not at all. */
+#ifndef RT_IMAGE_WRITE_H
+#define RT_IMAGE_WRITE_H
 
 #include <stdint.h>
-
-#include "image_io.h"
 
 typedef enum rt_image_format {
     RT_FORMAT_UNKNOWN = -1,
@@ -19,6 +18,12 @@ typedef enum rt_image_format {
     RT_FORMAT_EXR = 4,
 } rt_image_format;
 
+/* A key and value the file records about how it was made (PNG text
+ * chunks; the other formats have no place for them). */
+typedef struct rt_text {
+    const char *key, *value;
+} rt_text;
+
 /* The format named by path's extension (case-insensitive), or
  * RT_FORMAT_UNKNOWN. */
 rt_image_format rt_image_format_from_path(const char *path);
@@ -26,9 +31,9 @@ rt_image_format rt_image_format_from_path(const char *path);
 const char *rt_image_format_list(void);
 
 typedef struct rt_image_write_opts {
-    int bit_depth;      /* 8 or 16 (PNG and PPM); ignored by float formats */
-    int ppm_ascii;      /* PPM: write P3 text instead of binary P6 */
-    const rt_text *text; /* PNG text chunks (other formats have no place for them) */
+    int bit_depth;       /* 8 or 16 (PNG and PPM); ignored by float formats */
+    int ppm_ascii;       /* PPM: write P3 text instead of binary P6 */
+    const rt_text *text; /* what the file records */
     int n_text;
 } rt_image_write_opts;
 
@@ -48,6 +53,5 @@ int rt_image_write(const char *path, const int64_t *acc, uint32_t width, uint32_
  * black): a progressive preview. */
 int rt_image_write_rows(const char *path, const int64_t *acc, uint32_t width, uint32_t height,
                         const uint32_t *row_samples, const rt_image_write_opts *o);
-
 
 #endif
