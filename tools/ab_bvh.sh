@@ -18,11 +18,11 @@ BUILD=${AB_BUILD_DIR:-$ROOT/build-ab}
 mkdir -p "$BUILD"
 # B's sources: bvh.c, and bvh_build.c where B has one (revisions before the
 # build moved out of bvh.c have none: their bvh.c is the whole BVH). The
-# headers B may have changed (the layout bvh_node.h, the traversal template
+# headers B may have changed (its interface bvh.h, the layout bvh_node.h, the traversal template
 # bvh_traverse.h, the sphere test sphere.h) go beside them, where their
 # #include finds them before src/'s: REV's, or the ones beside FILE.c; the
 # working tree's where there are none.
-HEADERS="bvh_node.h bvh_traverse.h sphere.h"
+HEADERS="bvh.h bvh_node.h bvh_traverse.h sphere.h"
 rm -f "$BUILD/b_bvh_build.c.new"
 if [ -f "$B" ]; then
     D=$(dirname "$B")

@@ -19,6 +19,7 @@
  * enter its box anyway, so it is tested first, before the traversal, and a
  * ray that hits it starts the traversal with that hit as its bound. */
 #include "bvh_node.h"
+#include "core_internal.h"
 
 #include <float.h>
 #include <math.h>

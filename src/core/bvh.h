@@ -31,11 +31,6 @@ void rt_bvh_free(rt_bvh *b);
 
 /* Closest hit with the fastest box test the CPU has (rt_bvh_uses_avx). */
 int rt_bvh_closest(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
-/* The closest hits of n rays (1 <= n <= 8), into hits[k] for the rays whose bit is
- * set in the returned mask: the same hits as rt_bvh_closest finds for each,
- * from one traversal of them all together where the CPU has AVX
- * (rt_bvh_closest_packet_avx), else one at a time. */
-int rt_bvh_closest_packet(const rt_bvh *b, const rt_ray *rays, int n, double tmin, double tmax, rt_hit *hits);
 /* The same traversal with the baseline box test: SSE2 on x86-64 even where
  * AVX is present (what x86-64 CPUs without AVX run), else the portable one.
  * It finds the same hits; --accel bvh-sse renders with it. */
@@ -56,20 +51,6 @@ __attribute__((target("avx"))) int rt_bvh_closest_avx(const rt_bvh *b, const rt_
 __attribute__((target("avx"))) int rt_bvh_closest_packet_avx(const rt_bvh *b, const rt_ray *rays, int n,
                                                              double tmin, double tmax, rt_hit *hits);
 #endif
-/* The traversal of rt_bvh_closest, counting as it goes: nodes visited
- * (box tests of up to eight children) and spheres tested, added to *counts. For
- * benchmarks and tests; the two functions above count nothing. */
-typedef struct rt_bvh_counts {
-    uint64_t nodes, spheres;
-} rt_bvh_counts;
-int rt_bvh_closest_counted(const rt_bvh *b, const rt_ray *ray, double tmin, double tmax, rt_hit *hit,
-                           rt_bvh_counts *counts);
 size_t rt_bvh_bytes(const rt_bvh *b);
-/* How many spheres the tree leaves out and every query tests first: those
- * whose box is at least as large as the box of all the others (the final
- * scene's ground); at most 4. */
-int rt_bvh_outside(const rt_bvh *b);
-/* Structure statistics for tests and the summary. */
-void rt_bvh_stats(const rt_bvh *b, int *nodes, int *leaves, int *depth);
 
 #endif

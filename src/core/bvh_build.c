@@ -3,6 +3,7 @@
  * why this gives brute force's hits), the largest spheres kept out of the
  * tree. */
 #include "bvh_node.h"
+#include "core_internal.h"
 
 #include <float.h>
 #include <math.h>

@@ -1,6 +1,7 @@
 /* camera.c - the book's thin-lens camera (lookfrom/lookat/vup, vfov,
  * aperture, focus distance). */
 #include "camera.h"
+#include "core_internal.h"
 
 #include <math.h>
 

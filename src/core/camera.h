@@ -19,7 +19,5 @@ int rt_camera_init(rt_camera *cam, const rt_camera_desc *d, double aspect);
 /* Ray through (s, t) of the viewport, s to the right and t upward, both in
  * [0, 1]; draws the lens sample from r (only when the lens has a radius). */
 rt_ray rt_camera_ray(const rt_camera *cam, double s, double t, rt_rng *r);
-/* The same ray for the lens sample (lx, ly) of the unit disk. */
-rt_ray rt_camera_ray_lens(const rt_camera *cam, double s, double t, double lx, double ly);
 
 #endif

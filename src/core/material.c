@@ -1,5 +1,6 @@
 /* material.c - lambertian (three diffuse models), metal and dielectric. */
 #include "material.h"
+#include "core_internal.h"
 
 #include <math.h>
 #include <string.h>

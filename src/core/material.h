@@ -33,7 +33,4 @@ void rt_surface_from_sphere(rt_surface *rec, const rt_sphere *sp, const rt_ray *
 int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface *rec, rt_diffuse model,
                         rt_rng *rng, rt_vec3 *attenuation, rt_ray *scattered);
 
-/* Schlick's approximation of Fresnel reflectance. */
-double rt_material_reflectance(double cosine, double ref_idx);
-
 #endif

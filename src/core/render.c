@@ -1,6 +1,7 @@
 /* render.c - path tracing of the book's materials with an iterative loop
  * (no recursion, no allocation per ray), OpenMP over the pixels of a block. */
 #include "render.h"
+#include "core_internal.h"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -54,22 +54,6 @@ typedef struct rt_renderer {
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);
 
-/* Colour of one sample of pixel (x, y), y counted from the top row. Adds the
- * number of ray segments traced to *segments. */
-rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments);
-
-/* The rays that sample traces, in order (rays holds max_depth entries);
- * returns how many. For timing intersectors on the renderer's own rays. */
-uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays);
-
-/* Adds samples [s0, s1) of rows [y0, y1) to acc, laid out as
- * acc[((y - y0) * width + x) * 3 + channel], using nthreads OpenMP threads
- * (0 = the OpenMP default). Returns the ray segments traced. One block
- * with a barrier at its end: the farm renders its units with
- * rt_render_stream instead; the tests compare it with this. */
-uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
-                        int nthreads);
-
 /* A source of work units for rt_render_stream. take fills *u with the next
  * unit and returns 1, returns 0 when there are no more (it is not called
  * again then), or -1 when there is none yet (only with a poll, which brings

@@ -1,5 +1,6 @@
 /* scene.c - scene construction, the book's final scene, and the byte format. */
 #include "scene.h"
+#include "core_internal.h"
 
 #include <stdlib.h>
 #include <string.h>

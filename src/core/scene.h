@@ -77,8 +77,4 @@ int rt_scene_build_final(rt_scene *s, uint64_t seed, int grid);
 int rt_scene_serialize(const rt_scene *s, uint8_t **buf, size_t *len);
 int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len);
 
-/* FNV-1a 64 of the serialized bytes: identifies the scene in logs and
- * checkpoints. */
-uint64_t rt_scene_hash(const rt_scene *s);
-
 #endif

@@ -2,6 +2,7 @@
  * duplicate fields, wrong types and out-of-range values are refused with
  * the field's path), and writing them back with round-trip exact numbers. */
 #include "scene_json.h"
+#include "io_internal.h"
 
 #include "array.h"
 

@@ -17,21 +17,9 @@
  * about five million spheres (a --grid 1000 dump is 801 MB). */
 #define RT_SCENE_JSON_MAX_BYTES (1024u << 20)
 
-/* Parses len bytes of JSON text (no NUL terminator needed) into s. name is
- * the file name used in messages. On failure s is left empty, the status is
- * RT_EFORMAT (bad content), RT_EOVERFLOW (too many spheres) or RT_ENOMEM,
- * and err holds one line "<name>: <field>: <what is wrong>", e.g.
- * "scene.json: spheres[3].radius: expected a number". */
-int rt_scene_json_parse(rt_scene *s, const char *text, size_t len, const char *name, char *err, size_t errlen);
-
 /* Reads and parses the file at path (messages name it as given). RT_EIO
  * when it cannot be read. */
 int rt_scene_json_load(rt_scene *s, const char *path, char *err, size_t errlen);
-
-/* The scene as JSON text; *text is malloc'd and NUL-terminated, *len
- * excludes the NUL. Every double is written with the fewest digits that
- * read back to the same bits. */
-int rt_scene_json_format(const rt_scene *s, char **text, size_t *len);
 
 /* Writes the scene to path atomically (no partial file on failure). */
 int rt_scene_json_dump(const rt_scene *s, const char *path);

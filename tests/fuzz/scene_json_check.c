@@ -1,4 +1,6 @@
 /* scene_json_check.c - see scene_json_check.h. */
+#include "io_internal.h"
+#include "core_internal.h"
 #include "scene_json_check.h"
 
 #include <stdlib.h>

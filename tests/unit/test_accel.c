@@ -7,6 +7,7 @@
  * large spheres also check the spheres the tree leaves out (rt_bvh_outside). */
 #include <stdlib.h>
 
+#include "core_internal.h"
 #include "accel.h"
 #include "bvh.h"
 #include "check.h"

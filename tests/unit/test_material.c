@@ -2,6 +2,7 @@
  * reflection, attenuation never above 1, diffuse directions above the
  * surface, and each diffuse model's distribution of directions against its
  * law (chi-square). */
+#include "core_internal.h"
 #include "check.h"
 #include "material.h"
 #include "rng.h"

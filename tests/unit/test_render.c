@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core_internal.h"
 #include "accel.h"
 #include "check.h"
 #include "image.h"

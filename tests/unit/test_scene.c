@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core_internal.h"
 #include "check.h"
 #include "scene.h"
 #include "status.h"

@@ -6,6 +6,8 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "io_internal.h"
+#include "core_internal.h"
 #include "check.h"
 #include "scene_json.h"
 #include "scenes.h"

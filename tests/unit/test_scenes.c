@@ -3,6 +3,7 @@
  * camera sees at the centre of the image. */
 #include <string.h>
 
+#include "core_internal.h"
 #include "accel.h"
 #include "camera.h"
 #include "check.h"

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "core_internal.h"
 #include "accel.h"
 #include "bench_rays.h"
 #include "bvh.h"

@@ -5,6 +5,7 @@
 
 #include <stdlib.h>
 
+#include "core_internal.h"
 #include "array.h"
 #include "render.h"
 #include "status.h"
