@@ -98,20 +98,20 @@ const char *rt_cli_usage(void)
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
 {
     if (!s || !*s)
-        return -1;
+        return RT_EINVAL;
     uint64_t v = 0;
     for (const char *p = s; *p; p++) {
         if (*p < '0' || *p > '9')
-            return -1;
+            return RT_EINVAL;
         unsigned d = (unsigned)(*p - '0');
         if (v > (UINT64_MAX - d) / 10)
-            return -2;
+            return RT_ERANGE;
         v = v * 10 + d;
     }
     if (v < lo || v > hi)
-        return -2;
+        return RT_ERANGE;
     *out = v;
-    return 0;
+    return RT_OK;
 }
 
 /* How an option's value is stored: most options are a number in a range or
@@ -177,9 +177,9 @@ static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, u
                   size_t errlen)
 {
     int r = rt_cli_parse_u64(val, lo, hi, out);
-    if (r == -1)
+    if (r == RT_EINVAL)
         snprintf(err, errlen, "%s: '%s' is not a whole number", name, val);
-    else if (r == -2)
+    else if (r == RT_ERANGE)
         snprintf(err, errlen, "%s: %s is out of range (%llu to %llu)", name, val, (unsigned long long)lo,
                  (unsigned long long)hi);
     return r;
@@ -192,19 +192,19 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
     if (!strcmp(d->lng, "accel")) {
         if ((k = rt_accel_parse(val)) < 0) {
             snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree, bvh-scalar, bvh-sse", name, val);
-            return -1;
+            return RT_EINVAL;
         }
         o->accel = k;
     } else if (!strcmp(d->lng, "diffuse")) {
         if ((k = rt_diffuse_parse(val)) < 0) {
             snprintf(err, errlen, "%s: '%s' is not one of lambertian, sphere, hemisphere", name, val);
-            return -1;
+            return RT_EINVAL;
         }
         o->job.diffuse = (rt_diffuse)k;
     } else if (!strcmp(d->lng, "bit-depth")) {
         if (strcmp(val, "8") && strcmp(val, "16")) {
             snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
-            return -1;
+            return RT_EINVAL;
         }
         o->bit_depth = val[0] == '8' ? 8 : 16;
     } else { /* scene */
@@ -213,11 +213,11 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             known |= !strcmp(val, rt_scenes_info(i)->name);
         if (!known) {
             snprintf(err, errlen, "%s: no scene named '%s' (see --list-scenes)", name, val);
-            return -1;
+            return RT_EINVAL;
         }
         o->scene = val;
     }
-    return 0;
+    return RT_OK;
 }
 
 /* Stores val (NULL for options without one) as d says. */
@@ -229,35 +229,35 @@ static int apply(const optdef *d, const char *name, const char *val, rt_options 
     switch (d->kind) {
     case K_FLAG:
         *(int *)field = 1;
-        return 0;
+        return RT_OK;
     case K_U32:
     case K_INT:
     case K_U64:
         if (number(name, val, d->lo, d->hi, &v, err, errlen))
-            return -1;
+            return RT_EINVAL;
         if (d->kind == K_U32)
             *(uint32_t *)field = (uint32_t)v;
         else if (d->kind == K_INT)
             *(int *)field = (int)v;
         else
             *(uint64_t *)field = v;
-        return 0;
+        return RT_OK;
     case K_PATH:
         if (!*val) {
             snprintf(err, errlen, "%s: empty file name", name);
-            return -1;
+            return RT_EINVAL;
         }
         *(const char **)field = val;
-        return 0;
+        return RT_OK;
     case K_CHOICE:
         return choice(d, name, val, o, err, errlen);
     case K_ACTION:
         /* --help wins over the others, --list-scenes and --version over a run */
         if (*action == RT_CLI_RUN || d->off == RT_CLI_HELP)
             *action = (rt_cli_action)d->off;
-        return 0;
+        return RT_OK;
     }
-    return 0;
+    return RT_OK;
 }
 
 /* RT_ACCEL: a node's own default for --accel, set by a site per node (say,
@@ -268,14 +268,14 @@ static int accel_from_env(rt_options *o, char *err, size_t errlen)
 {
     const char *env = getenv("RT_ACCEL");
     if (!env || !*env)
-        return 0;
+        return RT_OK;
     int k = rt_accel_parse(env);
     if (k != RT_ACCEL_BVH && k != RT_ACCEL_BVH_SSE && k != RT_ACCEL_BVH_SCALAR) {
         snprintf(err, errlen, "RT_ACCEL='%s' is not one of bvh, bvh-sse, bvh-scalar", env);
-        return -1;
+        return RT_EINVAL;
     }
     o->accel = k;
-    return 0;
+    return RT_OK;
 }
 
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
@@ -377,14 +377,14 @@ int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errle
     const char *slash = strrchr(path, '/');
     if (!*(slash ? slash + 1 : path)) {
         snprintf(err, errlen, "%s: '%s' names a directory, not a file", opt, path);
-        return -1;
+        return RT_EINVAL;
     }
     int st = rt_file_check_writable(path);
     if (st == RT_EINVAL)
         snprintf(err, errlen, "%s: '%s' is a directory", opt, path);
     else if (st)
         snprintf(err, errlen, "%s: cannot write '%s': %s", opt, path, rt_status_str(st));
-    return st ? -1 : 0;
+    return st;
 }
 
 /* An image path: supported extension, options that fit its format, and a
@@ -399,7 +399,7 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
     if (*base && fmt == RT_FORMAT_UNKNOWN) {
         snprintf(err, errlen, "%s: unsupported file type '%s' (supported: %s)", opt, dot ? dot : base,
                  rt_image_format_list());
-        return -1;
+        return RT_EINVAL;
     }
     if (*base && rt_image_check_opts(fmt, &wo) != RT_OK) {
         if (o->ppm_ascii && fmt != RT_FORMAT_PPM)
@@ -407,7 +407,7 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
         else
             snprintf(err, errlen, "--bit-depth %d: %s files are written %s", o->bit_depth, dot,
                      fmt == RT_FORMAT_BMP ? "with 8 bits per channel only" : "as 32-bit float");
-        return -1;
+        return RT_EINVAL;
     }
     return rt_cli_check_path(opt, path, err, errlen);
 }
@@ -415,6 +415,6 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
 {
     if (check_image_path("--output", o->output, o, err, errlen))
-        return -1;
+        return RT_EINVAL;
     return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;
 }

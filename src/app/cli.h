@@ -56,13 +56,15 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
 /* A file can be created at path (a file name in an existing, writable
- * directory); else -1 and a message naming opt. */
+ * directory): RT_OK, else the status (RT_EINVAL, RT_ENOENT, RT_EACCESS)
+ * and a message naming opt. */
 int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen);
 
 /* Usage text for --help. */
 const char *rt_cli_usage(void);
 
-/* Parses a whole decimal number in [lo, hi]; 0 on success. */
+/* Parses a whole decimal number in [lo, hi]: RT_OK, RT_EINVAL (not a
+ * number) or RT_ERANGE (outside [lo, hi]). */
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out);
 
 #endif

@@ -18,7 +18,8 @@
     X(RT_ENOSPACE, -10, "no space left on device")                            \
     X(RT_EUNSUPPORTED, -11, "unsupported")                                    \
     X(RT_ENOENT, -12, "directory does not exist")                             \
-    X(RT_EACCESS, -13, "directory is not writable")
+    X(RT_EACCESS, -13, "directory is not writable")                         \
+    X(RT_ERANGE, -14, "out of range")
 
 typedef enum rt_status {
 #define RT_STATUS_ENUM(name, value, msg) name = value,

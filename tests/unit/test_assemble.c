@@ -1,0 +1,142 @@
+/* test_assemble.c - rank 0's result assembly without MPI: units arriving
+ * in any order (as results from many ranks do) give the sums of one
+ * in-order pass, bit for bit; a row's sum always covers samples [0,
+ * committed) (what previews and checkpoints need); early arrivals wait and
+ * are all drained; passes are noticed; each rank's account adds up. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "assemble.h"
+#include "check.h"
+#include "rng.h"
+#include "status.h"
+
+enum { W = 5, H = 23, S = 12 };
+
+/* The sums a unit of (rows, samples) would bring: each sample of each
+ * channel a value of its own, so a unit added twice, missed, or added at
+ * the wrong rows changes the total. */
+static int64_t sample_value(uint32_t y, uint32_t x, uint32_t c, uint32_t s)
+{
+    return (int64_t)(((y * 31u + x) * 7u + c) * 1009u + s * 13u + 1u);
+}
+
+static void unit_sums(const rt_unit *u, int64_t *out)
+{
+    size_t i = 0;
+    for (uint32_t y = u->y0; y < u->y1; y++)
+        for (uint32_t x = 0; x < W; x++)
+            for (uint32_t c = 0; c < 3; c++, i++) {
+                out[i] = 0;
+                for (uint32_t s = u->s0; s < u->s1; s++)
+                    out[i] += sample_value(y, x, c, s);
+            }
+}
+
+/* Every row's sum covers exactly samples [0, committed[y]). */
+static int rows_consistent(const rt_assembly *a)
+{
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++)
+            for (uint32_t c = 0; c < 3; c++) {
+                int64_t want = 0;
+                for (uint32_t s = 0; s < a->sched.committed[y]; s++)
+                    want += sample_value(y, x, c, s);
+                if (a->acc[((size_t)y * W + x) * 3 + c] != want)
+                    return 0;
+            }
+    return 1;
+}
+
+/* Plans a job of `passes` passes for `ranks` ranks, hands every unit out,
+ * then returns them in an order drawn from seed (0: in order) from rank
+ * (k % ranks); checks consistency after each. */
+static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band)
+{
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN};
+    rt_sched_params p = {band, 4, ranks, 8, 1, passes};
+    int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
+    rt_assembly a;
+    CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, (int)ranks, 1), RT_OK);
+    uint32_t n = a.sched.n_units;
+    rt_unit *units = malloc(n * sizeof *units);
+    for (uint32_t k = 0; k < n; k++)
+        CHECK(rt_sched_next(&a.sched, &units[k]));
+    rt_rng rng = rt_rng_for_stream(seed, 1);
+    for (uint32_t k = n; seed && k > 1; k--) { /* Fisher-Yates */
+        uint32_t j = (uint32_t)(rt_rng_double(&rng) * k);
+        rt_unit t = units[k - 1];
+        units[k - 1] = units[j];
+        units[j] = t;
+    }
+    int64_t *sums = malloc((size_t)W * H * 3 * sizeof *sums);
+    int consistent = 1, passes_seen = 0;
+    for (uint32_t k = 0; k < n; k++) {
+        unit_sums(&units[k], sums);
+        CHECK_EQ_INT(rt_assembly_add(&a, (int)(k % ranks), &units[k], sums, 10, k, k + 0.5), RT_OK);
+        consistent &= rows_consistent(&a);
+        if (a.pass_ready) {
+            passes_seen++;
+            a.pass_ready = 0;
+        }
+    }
+    CHECK(consistent);
+    CHECK(rt_assembly_complete(&a));
+    CHECK_EQ_INT(a.n_pending, 0);
+    CHECK_EQ_INT(a.sched.rows_done, H);
+    CHECK_EQ_INT(a.passes_done, passes > 1 ? passes : 0);
+    CHECK_EQ_INT(passes_seen > 0, passes > 1);
+    CHECK_EQ_U64(a.segments, (uint64_t)n * 10);
+    double rows = 0, units_counted = 0, busy = 0;
+    for (uint32_t r = 0; r < ranks; r++) {
+        rows += a.stats[r].rows;
+        units_counted += a.stats[r].units;
+        busy += a.stats[r].busy;
+    }
+    CHECK_NEAR(rows, H, 1e-9);
+    CHECK_NEAR(units_counted, n, 0);
+    CHECK_NEAR(busy, 0.5 * n, 1e-9);
+    CHECK_EQ_INT(a.n_trace, n);
+    free(sums);
+    free(units);
+    rt_assembly_free(&a);
+    free(acc);
+}
+
+int main(void)
+{
+    run(1, 1, 0, 0);   /* in order */
+    run(1, 4, 7, 0);   /* shuffled bands */
+    run(1, 64, 11, 0); /* more ranks than rows: sample ranges, shuffled */
+    run(3, 5, 13, 2);  /* progressive passes, shuffled */
+    run(4, 64, 17, 1); /* passes and sample ranges */
+
+    /* A unit out of commit order is kept, not lost: with nothing else in,
+     * the second sample range of a row waits for the first. */
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN};
+    rt_sched_params p = {0, 4, 64, 8, 1, 1};
+    int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
+    rt_assembly a;
+    CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, 1, 0), RT_OK);
+    rt_unit first, later = {0, 0, 0, 0, 0};
+    CHECK(rt_sched_next(&a.sched, &first));
+    for (rt_unit u; rt_sched_next(&a.sched, &u);)
+        if (u.y0 == first.y0 && u.s0 == first.s1) {
+            later = u;
+            break;
+        }
+    CHECK(later.s1 > later.s0);
+    int64_t sums[W * H * 3];
+    unit_sums(&later, sums);
+    CHECK_EQ_INT(rt_assembly_add(&a, 0, &later, sums, 0, 0, 0), RT_OK);
+    CHECK_EQ_INT(a.n_pending, 1);
+    CHECK_EQ_INT(a.sched.committed[first.y0], 0);
+    unit_sums(&first, sums);
+    CHECK_EQ_INT(rt_assembly_add(&a, 0, &first, sums, 0, 0, 0), RT_OK);
+    CHECK_EQ_INT(a.n_pending, 0);
+    CHECK_EQ_INT(a.sched.committed[first.y0], later.s1);
+    CHECK(rows_consistent(&a));
+    rt_assembly_free(&a);
+    free(acc);
+    CHECK_DONE();
+}

@@ -1,0 +1,142 @@
+/* test_cli.c - the option parser: defaults, every way of giving a value,
+ * each kind of bad input with its one-line message, RT_ACCEL, and the
+ * checks of output paths. Each case parses its own argv from defaults. */
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "accel.h"
+#include "check.h"
+#include "cli.h"
+#include "status.h"
+
+static rt_options opt;
+static char err[512];
+
+/* Parses the NULL-terminated words after "rt-mpi" into opt. */
+static rt_cli_action parse(const char *first, ...)
+{
+    char *argv[64] = {"rt-mpi"};
+    int argc = 1;
+    va_list ap;
+    va_start(ap, first);
+    for (const char *w = first; w && argc < 63; w = va_arg(ap, const char *))
+        argv[argc++] = (char *)w;
+    va_end(ap);
+    rt_cli_defaults(&opt);
+    err[0] = 0;
+    return rt_cli_parse(argc, argv, &opt, err, sizeof err);
+}
+
+/* err contains want; prints both when not. */
+static void check_err(const char *want)
+{
+    if (!strstr(err, want))
+        fprintf(stderr, "  message '%s' lacks '%s'\n", err, want);
+    CHECK(strstr(err, want) != NULL);
+}
+
+int main(void)
+{
+    /* Defaults: the book's final scene at 1200 x 800, 500 spp. */
+    CHECK_EQ_INT(parse(NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.job.width, 1200);
+    CHECK_EQ_INT(opt.job.height, 800);
+    CHECK_EQ_INT(opt.job.samples, 500);
+    CHECK_EQ_INT(opt.job.max_depth, 50);
+    CHECK_EQ_U64(opt.job.seed, 42);
+    CHECK(!strcmp(opt.scene, "final"));
+    CHECK_EQ_INT(opt.accel, RT_ACCEL_BVH);
+
+    /* A value after the option, after '=', or attached to a short one. */
+    CHECK_EQ_INT(parse("--width", "200", "-s", "8", "-j4", "--seed=7", NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.job.width, 200);
+    CHECK_EQ_INT(opt.job.height, 133); /* width / 1.5, truncated */
+    CHECK_EQ_INT(opt.job.samples, 8);
+    CHECK_EQ_INT(opt.threads, 4);
+    CHECK_EQ_U64(opt.job.seed, 7);
+    CHECK_EQ_INT(parse("--height", "10", "--max-depth", "3", "-o", "x.ppm", NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.job.height, 10);
+    CHECK_EQ_INT(opt.job.max_depth, 3);
+    CHECK(!strcmp(opt.output, "x.ppm"));
+
+    /* Bad input: one line naming the option and what is wrong. */
+    CHECK_EQ_INT(parse("--wdith", "3", NULL), RT_CLI_ERROR);
+    check_err("unknown option '--wdith'");
+    CHECK_EQ_INT(parse("-s", NULL), RT_CLI_ERROR);
+    check_err("option -s needs a value");
+    CHECK_EQ_INT(parse("-s", "abc", NULL), RT_CLI_ERROR);
+    check_err("-s: 'abc' is not a whole number");
+    CHECK_EQ_INT(parse("--width", "0", NULL), RT_CLI_ERROR);
+    check_err("--width: 0 is out of range");
+    CHECK_EQ_INT(parse("--quiet=1", NULL), RT_CLI_ERROR);
+    check_err("option --quiet takes no value");
+    CHECK_EQ_INT(parse("--accel", "octree", NULL), RT_CLI_ERROR);
+    check_err("--accel: 'octree' is not one of");
+    CHECK_EQ_INT(parse("--scene", "nowhere", NULL), RT_CLI_ERROR);
+    check_err("no scene named 'nowhere'");
+    CHECK_EQ_INT(parse("--scene", "final", "--scene-file", "a.json", NULL), RT_CLI_ERROR);
+    check_err("give one or the other");
+    CHECK_EQ_INT(parse("--passes", "9", "-s", "4", NULL), RT_CLI_ERROR);
+    check_err("9 passes need at least as many samples");
+    CHECK_EQ_INT(parse("--no-checkpoint", "--resume", NULL), RT_CLI_ERROR);
+    check_err("--no-checkpoint cannot be combined");
+    CHECK_EQ_INT(parse("--width", "1", NULL), RT_CLI_ERROR);
+    check_err("gives a height of 0");
+    CHECK_EQ_INT(parse("stray", NULL), RT_CLI_ERROR);
+    check_err("unexpected argument 'stray'");
+
+    /* --help wins over a run and over other actions; not over bad input
+     * met before it. */
+    CHECK_EQ_INT(parse("--version", "--help", NULL), RT_CLI_HELP);
+    CHECK_EQ_INT(parse("--list-scenes", NULL), RT_CLI_LIST_SCENES);
+    CHECK_EQ_INT(parse("--dump-scene", "s.json", NULL), RT_CLI_DUMP_SCENE);
+
+    /* RT_ACCEL: a node's default among our BVH's variants; --accel wins. */
+    setenv("RT_ACCEL", "bvh-scalar", 1);
+    CHECK_EQ_INT(parse(NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.accel, RT_ACCEL_BVH_SCALAR);
+    CHECK_EQ_INT(parse("--accel", "bvh-sse", NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.accel, RT_ACCEL_BVH_SSE);
+    setenv("RT_ACCEL", "brute", 1); /* would still give the same image, but is no node setting */
+    CHECK_EQ_INT(parse(NULL), RT_CLI_ERROR);
+    check_err("RT_ACCEL='brute' is not one of bvh, bvh-sse, bvh-scalar");
+    unsetenv("RT_ACCEL");
+
+    /* Whole numbers: status codes, the full uint64 range. */
+    uint64_t v = 0;
+    CHECK_EQ_INT(rt_cli_parse_u64("18446744073709551615", 0, UINT64_MAX, &v), RT_OK);
+    CHECK_EQ_U64(v, UINT64_MAX);
+    CHECK_EQ_INT(rt_cli_parse_u64("18446744073709551616", 0, UINT64_MAX, &v), RT_ERANGE);
+    CHECK_EQ_INT(rt_cli_parse_u64("5", 6, 9, &v), RT_ERANGE);
+    CHECK_EQ_INT(rt_cli_parse_u64("", 0, 9, &v), RT_EINVAL);
+    CHECK_EQ_INT(rt_cli_parse_u64("-1", 0, 9, &v), RT_EINVAL);
+    CHECK_EQ_INT(rt_cli_parse_u64("1x", 0, 9, &v), RT_EINVAL);
+
+    /* Output paths: a status and a message naming the option. */
+    char dir[] = "/tmp/rt-cli-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL);
+    char path[256];
+    CHECK_EQ_INT(rt_cli_check_path("--stats", dir, err, sizeof err), RT_EINVAL);
+    check_err("is a directory");
+    snprintf(path, sizeof path, "%s/missing/x.json", dir);
+    CHECK_EQ_INT(rt_cli_check_path("--stats", path, err, sizeof err), RT_ENOENT);
+    check_err("--stats: cannot write");
+    snprintf(path, sizeof path, "%s/x.json", dir);
+    CHECK_EQ_INT(rt_cli_check_path("--stats", path, err, sizeof err), RT_OK);
+    snprintf(path, sizeof path, "%s/x.jpg", dir);
+    CHECK_EQ_INT(parse("-o", path, NULL), RT_CLI_RUN);
+    CHECK(rt_cli_check_output(&opt, err, sizeof err) != RT_OK);
+    check_err("unsupported file type '.jpg'");
+    snprintf(path, sizeof path, "%s/x.bmp", dir);
+    CHECK_EQ_INT(parse("-o", path, "--bit-depth", "16", NULL), RT_CLI_RUN);
+    CHECK(rt_cli_check_output(&opt, err, sizeof err) != RT_OK);
+    check_err("--bit-depth 16");
+    snprintf(path, sizeof path, "%s/x.png", dir);
+    CHECK_EQ_INT(parse("-o", path, "--bit-depth", "16", NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(rt_cli_check_output(&opt, err, sizeof err), RT_OK);
+    rmdir(dir);
+    CHECK_DONE();
+}
