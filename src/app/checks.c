@@ -47,25 +47,6 @@ static int check_memory(const rt_job *j, char *err, size_t errlen)
     return 0;
 }
 
-/* The checkpoint: a writable path, there on --resume, not there otherwise
- * (a leftover would be clobbered, or silently ignored). */
-static int check_checkpoint(const rt_options *o, char *err, size_t errlen)
-{
-    if (rt_cli_check_path("--checkpoint", o->checkpoint, err, errlen) != RT_OK)
-        return RT_EXIT_USAGE;
-    if (o->resume && access(o->checkpoint, F_OK) != 0) {
-        snprintf(err, errlen, "--resume: no checkpoint '%s' to resume from", o->checkpoint);
-        return RT_EXIT_CHECKPOINT;
-    }
-    if (!o->resume && access(o->checkpoint, F_OK) == 0) {
-        snprintf(err, errlen,
-                 "checkpoint '%s' exists: pass --resume to continue that render, or delete it to start over",
-                 o->checkpoint);
-        return RT_EXIT_CHECKPOINT;
-    }
-    return 0;
-}
-
 /* Warnings that do not stop the run. */
 static void warn_placement(const rt_run *run)
 {
@@ -93,7 +74,7 @@ int rt_run_check(rt_run *run, char *err, size_t errlen)
     if (!code && run->root && check_memory(&o->job, err, errlen) != 0)
         code = RT_EXIT_USAGE;
     if (!code && run->root && o->checkpoint)
-        code = check_checkpoint(o, err, errlen);
+        code = rt_run_ckpt_check(o, err, errlen);
     if (!code) {
         run->threads = pick_threads(&run->farm, o, err, errlen);
         if (run->threads < 0)

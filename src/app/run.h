@@ -1,7 +1,8 @@
 /* run.h - one run of the program, as main tells it: what each step needs
  * and leaves behind. The steps live in checks.c (what rank 0 verifies
- * before anything renders), setup.c (scene, renderer, job and its hooks)
- * and summary.c (image file, checkpoint, summary, reports). */
+ * before anything renders), setup.c (scene, renderer, job and its hooks),
+ * ckpt.c (the checkpoint from check to removal) and summary.c (image file,
+ * summary, reports). */
 #ifndef RT_RUN_H
 #define RT_RUN_H
 
@@ -59,6 +60,20 @@ void rt_run_renderer(rt_run *run);
 /* The farm's job: units, threads, framebuffer, restored checkpoint, hooks.
  * Fails the job itself. */
 void rt_run_job(rt_run *run);
+
+/* ckpt.c: the checkpoint's life in a run. */
+/* Rank 0: a writable path, there on --resume and not there otherwise; an
+ * exit code, err filled. */
+int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
+/* Rank 0: the framebuffer of sums, the checkpoint's rows restored into it
+ * on --resume. Fails the job itself. */
+void rt_run_ckpt_framebuffer(rt_run *run);
+/* The farm's save hook (ctx: the run). */
+int rt_run_ckpt_save(void *ctx, const uint32_t *committed, const int64_t *acc);
+/* The whole render into the checkpoint (the image could not be written). */
+int rt_run_ckpt_keep_render(const rt_run *run);
+/* The image is written: remove the checkpoint, or keep it complete. */
+void rt_run_ckpt_done(const rt_run *run);
 
 /* summary.c: rank 0 after the render: the image file, the checkpoint
  * (removed or kept), the summary on stdout, --stats and --trace. */

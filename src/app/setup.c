@@ -122,17 +122,6 @@ static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
 }
 
-static int on_save(void *ctx, const uint32_t *committed, const int64_t *acc)
-{
-    rt_run *run = ctx;
-    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, committed, acc);
-    if (st && !run->ckpt_warned)
-        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
-                run->opt.checkpoint, rt_status_str(st));
-    run->ckpt_warned |= st != RT_OK;
-    return st;
-}
-
 static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows)
 {
     rt_run *run = ctx;
@@ -148,30 +137,6 @@ static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32
 }
 
 /* ---- the job ----------------------------------------------------------- */
-
-/* Rank 0 owns the framebuffer of sums; a resumed run starts from the
- * checkpoint's rows. */
-static void framebuffer(rt_run *run)
-{
-    const rt_options *o = &run->opt;
-    size_t n = (size_t)o->job.width * o->job.height * 3;
-    run->acc = rt_mem_zeroed(n * sizeof *run->acc);
-    if (!run->acc)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", o->job.width,
-                     o->job.height);
-    if (!o->resume)
-        return;
-    char err[1024] = "";
-    run->restored = calloc(o->job.height, sizeof *run->restored);
-    if (!run->restored)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory");
-    int st = rt_ckpt_read(o->checkpoint, &run->ckpt, run->restored, run->acc, &run->rows_restored, err, sizeof err);
-    if (st)
-        rt_farm_fail(&run->farm, RT_EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", o->checkpoint,
-                     err[0] ? err : rt_status_str(st));
-    for (uint32_t y = 0; y < o->job.height; y++)
-        run->samples_restored += run->restored[y];
-}
 
 void rt_run_job(rt_run *run)
 {
@@ -189,7 +154,7 @@ void rt_run_job(rt_run *run)
     job->trace = o->trace != NULL;
     if (!run->root)
         return;
-    framebuffer(run);
+    rt_run_ckpt_framebuffer(run);
     job->acc = run->acc;
     job->committed = run->restored;
     rt_progress_init(&run->progress, o->job.height, o->quiet);
@@ -200,7 +165,7 @@ void rt_run_job(rt_run *run)
     if (o->passes > 1)
         job->hooks.pass = on_pass;
     if (o->checkpoint) {
-        job->hooks.save = on_save;
+        job->hooks.save = rt_run_ckpt_save;
         job->hooks.save_interval = o->checkpoint_interval;
     }
     if (o->quiet)

@@ -36,20 +36,6 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              rt_diffuse_name(o->job.diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
 }
 
-/* A checkpoint that holds the whole finished image (every row complete). */
-static int save_finished(const rt_run *run)
-{
-    const rt_job *j = &run->opt.job;
-    uint32_t *all = malloc(j->height * sizeof *all);
-    if (!all)
-        return RT_ENOMEM;
-    for (uint32_t y = 0; y < j->height; y++)
-        all[y] = j->samples;
-    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, all, run->acc);
-    free(all);
-    return st;
-}
-
 /* The output file; on failure the finished sums go to the checkpoint, so
  * that a resume only has to write the image. */
 static void write_image(rt_run *run)
@@ -71,16 +57,12 @@ static void write_image(rt_run *run)
     };
     rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
     int st = rt_image_write(o->output, run->acc, o->job.width, o->job.height, o->job.samples, &wo);
-    if (st) {
-        const char *saved = "";
-        if (o->checkpoint && save_finished(run) == RT_OK)
-            saved = " (the rendered image is saved in the checkpoint: free space and rerun with --resume)";
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", o->output, rt_status_str(st), saved);
-    }
-    if (o->checkpoint && !o->keep_checkpoint)
-        unlink(o->checkpoint);
-    else if (o->checkpoint && (st = save_finished(run)) != RT_OK)
-        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", o->checkpoint, rt_status_str(st));
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", o->output, rt_status_str(st),
+                     rt_run_ckpt_keep_render(run) == RT_OK ? " (the rendered image is saved in the checkpoint: "
+                                                             "free space and rerun with --resume)"
+                                                           : "");
+    rt_run_ckpt_done(run);
 }
 
 static void print_intersector(const rt_run *run)

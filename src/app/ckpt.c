@@ -1,0 +1,97 @@
+/* ckpt.c - the checkpoint's life in a run (its format: io/checkpoint.c):
+ * checked before anything renders, restored into the framebuffer on
+ * --resume, saved by the farm's save hook while the render goes on, kept
+ * with the whole render if the image cannot be written, and removed (or
+ * kept, --keep-checkpoint) once the image is written. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "mem.h"
+#include "run.h"
+#include "status.h"
+
+/* The checkpoint: a writable path, there on --resume, not there otherwise
+ * (a leftover would be clobbered, or silently ignored). */
+int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen)
+{
+    if (rt_cli_check_path("--checkpoint", o->checkpoint, err, errlen) != RT_OK)
+        return RT_EXIT_USAGE;
+    if (o->resume && access(o->checkpoint, F_OK) != 0) {
+        snprintf(err, errlen, "--resume: no checkpoint '%s' to resume from", o->checkpoint);
+        return RT_EXIT_CHECKPOINT;
+    }
+    if (!o->resume && access(o->checkpoint, F_OK) == 0) {
+        snprintf(err, errlen,
+                 "checkpoint '%s' exists: pass --resume to continue that render, or delete it to start over",
+                 o->checkpoint);
+        return RT_EXIT_CHECKPOINT;
+    }
+    return 0;
+}
+
+/* Rank 0 owns the framebuffer of sums; a resumed run starts from the
+ * checkpoint's rows. */
+void rt_run_ckpt_framebuffer(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    size_t n = (size_t)o->job.width * o->job.height * 3;
+    run->acc = rt_mem_zeroed(n * sizeof *run->acc);
+    if (!run->acc)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", o->job.width,
+                     o->job.height);
+    if (!o->resume)
+        return;
+    char err[1024] = "";
+    run->restored = calloc(o->job.height, sizeof *run->restored);
+    if (!run->restored)
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory");
+    int st = rt_ckpt_read(o->checkpoint, &run->ckpt, run->restored, run->acc, &run->rows_restored, err, sizeof err);
+    if (st)
+        rt_farm_fail(&run->farm, RT_EXIT_CHECKPOINT, "--resume: cannot use checkpoint '%s': %s", o->checkpoint,
+                     err[0] ? err : rt_status_str(st));
+    for (uint32_t y = 0; y < o->job.height; y++)
+        run->samples_restored += run->restored[y];
+}
+
+int rt_run_ckpt_save(void *ctx, const uint32_t *committed, const int64_t *acc)
+{
+    rt_run *run = ctx;
+    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, committed, acc);
+    if (st && !run->ckpt_warned)
+        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s (rendering goes on; will retry)\n",
+                run->opt.checkpoint, rt_status_str(st));
+    run->ckpt_warned |= st != RT_OK;
+    return st;
+}
+
+/* A checkpoint that holds the whole finished image (every row complete). */
+static int save_finished(const rt_run *run)
+{
+    const rt_job *j = &run->opt.job;
+    uint32_t *all = malloc(j->height * sizeof *all);
+    if (!all)
+        return RT_ENOMEM;
+    for (uint32_t y = 0; y < j->height; y++)
+        all[y] = j->samples;
+    int st = rt_ckpt_write(run->opt.checkpoint, &run->ckpt, all, run->acc);
+    free(all);
+    return st;
+}
+
+int rt_run_ckpt_keep_render(const rt_run *run)
+{
+    return run->opt.checkpoint ? save_finished(run) : RT_EINVAL;
+}
+
+void rt_run_ckpt_done(const rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    int st;
+    if (!o->checkpoint)
+        return;
+    if (!o->keep_checkpoint)
+        unlink(o->checkpoint);
+    else if ((st = save_finished(run)) != RT_OK)
+        fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s: %s\n", o->checkpoint, rt_status_str(st));
+}
