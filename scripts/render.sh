@@ -8,7 +8,8 @@
 #   scripts/render.sh -s 500
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-BIN=$("$ROOT/scripts/setup.sh" "$ROOT/build")
+# Only the program is built (scripts/test.sh builds the tests).
+BIN=$(RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup.sh" "$ROOT/build")
 # One process here: its OpenMP threads use every core (see README for
 # mpirun and Slurm).
 "$BIN" -o "$ROOT/output.png" -s 100 "$@"

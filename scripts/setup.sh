@@ -9,10 +9,13 @@ BUILD=${1:-$ROOT/build}
 shift || true
 
 PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
-# Scene files (cJSON), OpenEXR output; the format tests read files back with
-# ImageMagick and python3. The fuzzer (scripts/fuzz.sh) also needs clang:
+# Optional features, used when present: scene files and --stats/--trace
+# (cJSON), OpenEXR output.
+PACKAGES+=(libcjson-dev libopenexr-dev)
+# The tests read files back with ImageMagick, python3 and OpenEXR's tools.
+# The fuzzer (scripts/fuzz.sh) also needs clang:
 # RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev".
-PACKAGES+=(libcjson-dev libopenexr-dev imagemagick python3)
+case " $* " in *" -DBUILD_TESTING=ON "*) PACKAGES+=(imagemagick python3 openexr) ;; esac
 PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 
 "$ROOT/scripts/install_packages.sh" "${PACKAGES[@]}"

@@ -12,6 +12,7 @@
 #include "image_write.h"
 #include "material.h"
 #include "render.h" /* RT_MAX_SAMPLES */
+#include "rt_config.h"
 #include "scenes.h"
 #include "status.h"
 
@@ -42,57 +43,105 @@ void rt_cli_defaults(rt_options *o)
 
 const char *rt_cli_usage(void)
 {
-    return "Usage: rt-mpi [OPTIONS]\n"
-           "       mpirun -np N rt-mpi [OPTIONS]\n"
+    /* Also the man page's source (cmake/help2man.awk): a line "Topic:" opens
+     * a section, "  -x, --opt <ARG>  text" an item, deeper lines go on. */
+    return "Usage: rt-mpi [OPTIONS] [SCENE.json]\n"
+           "       mpirun -np N rt-mpi [OPTIONS] [SCENE.json]\n"
            "\n"
-           "Renders the \"Ray Tracing in One Weekend\" scenes, distributing row bands\n"
-           "over MPI ranks and OpenMP threads. The image is byte-identical for any number\n"
-           "of ranks, threads and any band size.\n"
+           "Renders the \"Ray Tracing in One Weekend\" scenes, or a JSON scene file, with a\n"
+           "path tracer that spreads row bands over MPI ranks and OpenMP threads. The image\n"
+           "is byte-identical for any number of ranks, threads and any band size. Progress\n"
+           "goes to stderr, the run summary (with the image hash) to stdout.\n"
            "\n"
-           "Options:\n"
+           "Output:\n"
            "  -o, --output <FILE>      Output image; the extension picks the format: .png, .ppm,\n"
            "                           .bmp, or .pfm/.exr (linear float) [default: output.png]\n"
            "      --bit-depth <BITS>   8 or 16 bits per channel (.png and .ppm) [default: 8]\n"
            "      --ppm-ascii          Write .ppm as ASCII P3, as the book does (default: binary P6)\n"
+           "  -q, --quiet              No progress output on stderr\n"
+           "\n"
+           "Scene:\n"
+           "  SCENE.json               A JSON scene file: the same as --scene-file SCENE.json\n"
            "      --scene <NAME>       Scene to render (see --list-scenes) [default: final]\n"
            "      --scene-file <FILE>  Render the scene described by a JSON scene file instead\n"
-           "      --dump-scene <FILE>  Write the scene this run would render as JSON, then exit\n"
            "      --list-scenes        List the named scenes and exit\n"
+           "      --dump-scene <FILE>  Write the scene this run would render as JSON, then exit\n"
+           "      --grid <GRID>        Half-grid size N of the final scene: 2N x 2N small spheres\n"
+           "                           [default: 11]\n"
            "      --width <WIDTH>      Image width in pixels [default: 1200]\n"
            "      --height <HEIGHT>    Image height in pixels (default: width / 1.5)\n"
+           "\n"
+           "Sampling:\n"
            "  -s, --samples <SAMPLES>  Samples per pixel [default: 500]\n"
-           "      --grid <GRID>        Half-grid size N; 2N x 2N grid of small spheres [default: 11]\n"
-           "      --max-depth <DEPTH>  Maximum ray segments per path [default: 50]\n"
-           "  -j, --threads <THREADS>  Threads per rank (0 = all cores available to the rank) [default: 0]\n"
            "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
-           "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
-           "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray), embree\n"
-           "                           (only in builds with -DRT_EMBREE=ON), bvh-sse (the BVH with the\n"
-           "                           SSE2 box test that x86-64 CPUs without AVX run) or bvh-scalar\n"
-           "                           (the BVH with the portable box test that non-x86 nodes run)\n"
-           "                           [default: bvh, or RT_ACCEL: bvh, bvh-sse or bvh-scalar]\n"
+           "      --max-depth <DEPTH>  Maximum ray segments per path [default: 50]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
-           "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
-           "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
-           "      --resume             Continue from the checkpoint (refused if it is from another job)\n"
-           "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
-           "      --no-checkpoint      Write no checkpoint\n"
-           "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
-           "      --stats <FILE.json>  Machine-readable run summary\n"
-           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
            "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
            "                           image, rewriting a preview after each [default: 1]\n"
            "      --preview <FILE>     Preview image of --passes [default: the output]\n"
+           "\n"
+           "Parallel:\n"
+           "  -j, --threads <THREADS>  Threads per rank (0 = OMP_NUM_THREADS if set, else all\n"
+           "                           cores available to the rank) [default: 0]\n"
+           "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
+           "\n"
+           "Checkpoint:\n"
+           "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
+           "      --checkpoint-interval <SECONDS>\n"
+           "                           Time between checkpoint writes (0: whenever rows\n"
+           "                           complete) [default: 60]\n"
+           "      --resume             Continue from the checkpoint (refused if it is from\n"
+           "                           another job)\n"
+           "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
+           "      --no-checkpoint      Write no checkpoint\n"
+           "\n"
+           "Diagnostics:\n"
+           "      --stats <FILE.json>  Machine-readable run summary: inputs, times per rank,\n"
+           "                           version, command line, host, MPI library\n"
+           "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
+           "      --version            Print the version and the build's features, then exit\n"
+           "  -h, --help               Print this help\n"
+           "\n"
+           "Developer and benchmark options:\n"
+           "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray), embree\n"
+           "                           (only in builds with -DRT_EMBREE=ON), bvh-sse (the BVH\n"
+           "                           with the SSE2 box test that x86-64 CPUs without AVX run)\n"
+           "                           or bvh-scalar (the portable box test of non-x86 nodes)\n"
+           "                           [default: bvh, or RT_ACCEL]\n"
+           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
            "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
            "      --empty-units        Benchmark the farm: hand out and gather units without\n"
            "                           rendering them (the image is black)\n"
-           "  -q, --quiet              No progress output on stderr\n"
-           "      --version            Print version and exit\n"
-           "  -h, --help               Print help\n"
            "\n"
-           "Progress goes to stderr, the run summary (with the image hash) to stdout.\n"
-           "Exit status: 0 done, 1 runtime failure, 2 bad input, 3 checkpoint refused,\n"
-           "75 interrupted by SIGTERM/SIGINT/SIGUSR1 after saving the checkpoint (rerun with --resume).\n";
+           "Examples:\n"
+           "  rt-mpi --width 400 -s 32 -o quick.png\n"
+           "                           A quick look at the book's final scene\n"
+           "  mpirun -np 4 --bind-to none rt-mpi -j 2 -o final.png\n"
+           "                           4 ranks of 2 threads each; after Ctrl-C the same\n"
+           "                           command with --resume continues\n"
+           "  rt-mpi scene.json -o scene.exr --stats run.json\n"
+           "                           A scene file (examples: share/rt-mpi/scenes), in linear\n"
+           "                           float, and a JSON summary of the run\n"
+           "\n"
+           "Environment:\n"
+           "  OMP_NUM_THREADS          Threads per rank when -j is 0\n"
+           "  RT_BIND                  0: never bind threads to CPUs (by default threads that\n"
+           "                           exactly fill a rank's CPUs are bound one to each)\n"
+           "  RT_ACCEL                 This node's default for --accel: bvh, bvh-sse or\n"
+           "                           bvh-scalar (all give the same image)\n"
+           "  RT_MPI_INIT              1: initialise MPI although no known launcher started the\n"
+           "                           process; 0: never (default: only under mpirun, srun...)\n"
+           "  OMPI_*                   Open MPI's settings, e.g. OMPI_MCA_pml=ob1 for a quicker\n"
+           "                           start; as root mpirun wants OMPI_ALLOW_RUN_AS_ROOT=1 and\n"
+           "                           OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1\n"
+           "\n"
+           "Exit status:\n"
+           "  0                        Done\n"
+           "  1                        Runtime failure\n"
+           "  2                        Bad input (one line: rt-mpi: error: ...)\n"
+           "  3                        Checkpoint refused (it belongs to another job)\n"
+           "  75                       Interrupted by SIGTERM, SIGINT or SIGUSR1 after saving the\n"
+           "                           checkpoint: rerun with --resume\n";
 }
 
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
@@ -172,6 +221,8 @@ static const optdef OPTS[] = {
 };
 #undef F
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
+
+const char *rt_cli_long_option(size_t i) { return i < N_OPTS ? OPTS[i].lng : NULL; }
 
 static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, uint64_t *out, char *err,
                   size_t errlen)
@@ -278,9 +329,74 @@ static int accel_from_env(rt_options *o, char *err, size_t errlen)
     return RT_OK;
 }
 
+/* Edits (insert, delete, replace, swap two neighbours) from a to b, the
+ * first n bytes of a against b; stops counting past 9. */
+static int edit_distance(const char *a, size_t n, const char *b)
+{
+    size_t m = strlen(b);
+    if (n > 40 || m > 40)
+        return 9;
+    int d[41][41];
+    for (size_t i = 0; i <= n; i++)
+        for (size_t j = 0; j <= m; j++) {
+            if (!i || !j) {
+                d[i][j] = (int)(i + j);
+                continue;
+            }
+            int best = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            best = d[i - 1][j] + 1 < best ? d[i - 1][j] + 1 : best;
+            best = d[i][j - 1] + 1 < best ? d[i][j - 1] + 1 : best;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < best)
+                best = d[i - 2][j - 2] + 1;
+            d[i][j] = best;
+        }
+    return d[n][m] < 9 ? d[n][m] : 9;
+}
+
+/* The long option a mistyped name (without "--", len bytes) most likely
+ * meant: the nearest within two edits (one for names of up to four
+ * letters), else the one it is the start of; NULL when none is close. */
+static const char *suggest(const char *name, size_t len)
+{
+    const char *best = NULL, *prefix_of = NULL;
+    int best_d = len <= 4 ? 2 : 3, prefixes = 0;
+    for (size_t k = 0; k < N_OPTS; k++) {
+        int dist = edit_distance(name, len, OPTS[k].lng);
+        if (dist < best_d) {
+            best_d = dist;
+            best = OPTS[k].lng;
+        }
+        if (len >= 3 && !strncmp(OPTS[k].lng, name, len)) {
+            prefix_of = OPTS[k].lng;
+            prefixes++;
+        }
+    }
+    return best ? best : prefixes == 1 ? prefix_of : NULL;
+}
+
+/* Features this build may lack: the options that need them, refused with
+ * one line that says what to install. */
+static int check_features(const rt_options *o, const char *positional, char *err, size_t errlen)
+{
+    const char *opt = positional ? "scene file" : o->scene_file ? "--scene-file" : o->dump_scene ? "--dump-scene"
+                                                : o->stats      ? "--stats"
+                                                : o->trace      ? "--trace"
+                                                                : NULL;
+    if (!RT_HAVE_CJSON && opt) {
+        snprintf(err, errlen,
+                 "%s: this rt-mpi was built without JSON support (feature 'json'): install cJSON "
+                 "(Debian: apt-get install libcjson-dev) and rebuild",
+                 opt);
+        return RT_EUNSUPPORTED;
+    }
+    return RT_OK;
+}
+
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
 {
     rt_cli_action action = RT_CLI_RUN;
+    const char *positional = NULL; /* the scene file */
+    int options_end = 0;           /* after "--", every word is positional */
     if (accel_from_env(o, err, errlen))
         return RT_CLI_ERROR;
     for (int i = 1; i < argc; i++) {
@@ -288,15 +404,35 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         const optdef *d = NULL;
         const char *val = NULL;
         char name[64];
-        if (arg[0] == '-' && arg[1] == '-' && arg[2]) {
+        if (!options_end && !strcmp(arg, "--")) {
+            options_end = 1;
+            continue;
+        }
+        if (options_end || arg[0] != '-' || !arg[1]) {
+            if (positional) {
+                snprintf(err, errlen, "unexpected argument '%s': one scene file only ('%s' is the first; see --help)",
+                         arg, positional);
+                return RT_CLI_ERROR;
+            }
+            if (!*arg) {
+                snprintf(err, errlen, "scene file: empty file name");
+                return RT_CLI_ERROR;
+            }
+            positional = arg;
+            continue;
+        }
+        if (arg[0] == '-' && arg[1] == '-') {
             const char *eq = strchr(arg + 2, '=');
             size_t len = eq ? (size_t)(eq - arg - 2) : strlen(arg + 2);
             for (size_t k = 0; k < N_OPTS; k++)
                 if (strlen(OPTS[k].lng) == len && !strncmp(OPTS[k].lng, arg + 2, len))
                     d = &OPTS[k];
             if (!d) {
-                snprintf(err, errlen, "unknown option '%.*s' (see --help)", (int)(eq ? (size_t)(eq - arg) : strlen(arg)),
-                         arg);
+                const char *near = suggest(arg + 2, len);
+                char hint[64];
+                if (near)
+                    snprintf(hint, sizeof hint, "did you mean --%s?", near);
+                snprintf(err, errlen, "unknown option '%.*s' (%s)", (int)(len + 2), arg, near ? hint : "see --help");
                 return RT_CLI_ERROR;
             }
             int takes = d->kind != K_FLAG && d->kind != K_ACTION;
@@ -320,9 +456,6 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             if (arg[2])
                 val = arg + 2; /* -j4 */
             snprintf(name, sizeof name, "-%c", d->shrt);
-        } else {
-            snprintf(err, errlen, "unexpected argument '%s' (see --help)", arg);
-            return RT_CLI_ERROR;
         }
         if (d->kind != K_FLAG && d->kind != K_ACTION && !val) {
             if (i + 1 >= argc) {
@@ -336,10 +469,18 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
     }
     if (action != RT_CLI_RUN)
         return action;
-    if (o->scene && o->scene_file) {
-        snprintf(err, errlen, "--scene and --scene-file: give one or the other");
+    if (positional && o->scene_file) {
+        snprintf(err, errlen, "scene file '%s' and --scene-file %s: give one or the other", positional, o->scene_file);
         return RT_CLI_ERROR;
     }
+    if (positional)
+        o->scene_file = positional;
+    if (o->scene && o->scene_file) {
+        snprintf(err, errlen, "--scene and %s: give one or the other", positional ? "a scene file" : "--scene-file");
+        return RT_CLI_ERROR;
+    }
+    if (check_features(o, positional, err, errlen))
+        return RT_CLI_ERROR;
     if (!o->scene && !o->scene_file)
         o->scene = "final";
     if (o->dump_scene) /* nothing renders: the render's options do not matter */
@@ -400,6 +541,13 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
         snprintf(err, errlen, "%s: unsupported file type '%s' (supported: %s)", opt, dot ? dot : base,
                  rt_image_format_list());
         return RT_EINVAL;
+    }
+    if (*base && !rt_image_format_available(fmt)) { /* only .exr can be missing */
+        snprintf(err, errlen,
+                 "%s '%s': this rt-mpi was built without OpenEXR (feature 'exr'): install OpenEXR 3 "
+                 "(Debian: apt-get install libopenexr-dev) and rebuild, or write .pfm",
+                 opt, path);
+        return RT_EUNSUPPORTED;
     }
     if (*base && rt_image_check_opts(fmt, &wo) != RT_OK) {
         if (o->ppm_ascii && fmt != RT_FORMAT_PPM)

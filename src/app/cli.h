@@ -8,8 +8,6 @@
 
 #include "job.h"
 
-#define RT_VERSION "0.1.0"
-
 typedef enum rt_cli_action {
     RT_CLI_RUN = 0,
     RT_CLI_HELP = 1,
@@ -45,14 +43,17 @@ typedef struct rt_options {
 
 void rt_cli_defaults(rt_options *o);
 
-/* Parses argv into o. On RT_CLI_ERROR, err holds one line (no prefix, no
- * newline) naming the option and what is wrong. Only checks that need no
- * file system access happen here. */
+/* Parses argv into o. A word that is no option is the scene file (as
+ * --scene-file; every word after "--" is one). On RT_CLI_ERROR, err holds
+ * one line (no prefix, no newline) naming the option and what is wrong,
+ * with "did you mean --x?" for a mistyped long option, or the feature
+ * this build lacks (JSON: scene files, --stats, --trace). Only checks that
+ * need no file system access happen here. */
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen);
 
 /* Checks the output path and the --preview path (directory exists and is
- * writable, not a directory, supported extension, --bit-depth/--ppm-ascii
- * fit the format). */
+ * writable, not a directory, supported extension that this build writes,
+ * --bit-depth/--ppm-ascii fit the format). */
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 
 /* A file can be created at path (a file name in an existing, writable
@@ -60,8 +61,11 @@ int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
  * and a message naming opt. */
 int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen);
 
-/* Usage text for --help. */
+/* Usage text for --help, grouped by topic; also the man page's source. */
 const char *rt_cli_usage(void);
+/* The i-th long option's name (without "--"), NULL past the last: the
+ * tests check that the help names every one. */
+const char *rt_cli_long_option(size_t i);
 
 /* Parses a whole decimal number in [lo, hi]: RT_OK, RT_EINVAL (not a
  * number) or RT_ERANGE (outside [lo, hi]). */

@@ -4,8 +4,11 @@
  * file is the table of contents. */
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "clock.h"
+#include "report.h"
+#include "rt_config.h"
 #include "run.h"
 #include "scenes.h"
 
@@ -16,8 +19,12 @@ static int answer(const rt_run *run, rt_cli_action action)
         return 0;
     if (action == RT_CLI_HELP)
         fputs(rt_cli_usage(), stdout);
-    else if (action == RT_CLI_VERSION)
-        printf("rt-mpi %s (sampling version %u)\n", RT_VERSION, RT_RENDER_SAMPLING);
+    if (action == RT_CLI_VERSION) {
+        char features[96];
+        rt_report_features(features, sizeof features);
+        printf("rt-mpi %s (sampling version %u)\nfeatures: %s\nMPI library: %s\n", RT_VERSION,
+               RT_RENDER_SAMPLING, features, rt_farm_mpi_version());
+    }
     for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++)
         printf("%-10s %s\n", rt_scenes_info(i)->name, rt_scenes_info(i)->summary);
     return 0;
@@ -38,6 +45,9 @@ int main(int argc, char **argv)
     rt_run run;
     memset(&run, 0, sizeof run);
     run.t_start = rt_now();
+    run.start = time(NULL);
+    run.argc = argc; /* before MPI_Init could touch them */
+    run.argv = argv;
     rt_scene_init(&run.scene);
     char err[1024] = "";
 

@@ -1,14 +1,29 @@
-/* report.h - run reports as JSON files: the unit timeline in Chrome's
- * trace-event format (opens in Perfetto / chrome://tracing) and a
- * machine-readable summary. Written atomically. */
+/* report.h - run reports as JSON files, built with cJSON: the unit
+ * timeline in Chrome's trace-event format (opens in Perfetto /
+ * chrome://tracing) and a machine-readable summary, both saying where they
+ * come from (version, features, command line, start time, host, MPI
+ * library, Slurm job). Written atomically. Any byte of a command line or
+ * path gives valid JSON: invalid UTF-8 becomes U+FFFD. */
 #ifndef RT_REPORT_H
 #define RT_REPORT_H
 
 #include <stddef.h>
 #include <stdint.h>
+#include <time.h>
 
 #include "farm.h"
 #include "job.h"
+
+/* Where a report comes from. */
+typedef struct rt_report_origin {
+    int argc;
+    char *const *argv;        /* the command line exactly as given */
+    time_t start;             /* the run's start (written as ISO 8601, UTC) */
+    const char *host;         /* rank 0's host name. TODO: every rank's, which
+                               * needs the farm to gather them */
+    const char *mpi_library;  /* rt_farm_mpi_version() */
+    const char *slurm_job_id; /* SLURM_JOB_ID, or NULL outside Slurm */
+} rt_report_origin;
 
 typedef struct rt_run_summary {
     const rt_job *job;
@@ -20,9 +35,22 @@ typedef struct rt_run_summary {
     double wall, total_wall;
     uint64_t segments;
     const rt_rank_stats *per_rank;
+    rt_report_origin origin;
 } rt_run_summary;
 
-int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ranks);
+/* RT_EUNSUPPORTED in a build without cJSON (the option parser refuses
+ * --stats and --trace there first). */
+int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ranks, const rt_report_origin *origin);
 int rt_report_stats(const char *path, const rt_run_summary *s);
+
+/* The build's features, space-separated ("mpi openmp png exr json"), into
+ * buf: what --version prints and --stats records. */
+void rt_report_features(char *buf, size_t n);
+
+/* A copy of s (malloc'd, NULL without memory) that is valid UTF-8: every
+ * byte that is not part of a well-formed sequence (stray continuation
+ * bytes, truncated or overlong sequences, surrogates, beyond U+10FFFF) is
+ * replaced by U+FFFD. */
+char *rt_report_utf8(const char *s);
 
 #endif

@@ -7,6 +7,7 @@
 #define RT_RUN_H
 
 #include <stdint.h>
+#include <time.h>
 
 #include "accel.h"
 #include "checkpoint.h"
@@ -24,6 +25,9 @@
 
 typedef struct rt_run {
     double t_start;
+    time_t start;         /* wall-clock start, for the reports */
+    int argc;             /* the command line as given, for the reports */
+    char **argv;
     rt_options opt;
     char ckpt_default[4096]; /* OUTPUT.ckpt when --checkpoint is not given */
     rt_farm farm;

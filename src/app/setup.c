@@ -10,6 +10,7 @@
 #include "hash.h"
 #include "image_write.h"
 #include "mem.h"
+#include "rt_config.h"
 #include "run.h"
 #include "scene_json.h"
 #include "scenes.h"

@@ -12,6 +12,7 @@
 #include "image_write.h"
 #include "mem.h"
 #include "report.h"
+#include "rt_config.h"
 #include "run.h"
 #include "status.h"
 
@@ -36,8 +37,10 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              rt_diffuse_name(o->job.diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
 }
 
-/* The output file; on failure the finished sums go to the checkpoint, so
- * that a resume only has to write the image. */
+/* The output file, with what made it (PNG text chunks, EXR attributes): no
+ * time, host or rank count, so that it stays byte-identical however it was
+ * rendered. On failure the finished sums go to the checkpoint, so that a
+ * resume only has to write the image. */
 static void write_image(rt_run *run)
 {
     const rt_options *o = &run->opt;
@@ -128,13 +131,19 @@ static void write_reports(const rt_run *run, uint64_t hash)
 {
     const rt_options *o = &run->opt;
     const rt_farm_result *res = &run->res;
+    char host[256] = "";
+    if (gethostname(host, sizeof host - 1) != 0)
+        host[0] = 0;
+    const char *job_id = getenv("SLURM_JOB_ID");
+    rt_report_origin origin = {run->argc, run->argv, run->start, host, rt_farm_mpi_version(),
+                               job_id && *job_id ? job_id : NULL};
     rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
                           run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
-                          rt_now() - run->t_start, res->segments, res->ranks};
+                          rt_now() - run->t_start, res->segments, res->ranks, origin};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));
-    if (o->trace && (st = rt_report_trace(o->trace, res->trace, res->n_trace, run->farm.size)) != RT_OK)
+    if (o->trace && (st = rt_report_trace(o->trace, res->trace, res->n_trace, run->farm.size, &origin)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->trace, rt_status_str(st));
 }
 

@@ -96,6 +96,9 @@ typedef struct rt_farm_result {
 
 int rt_farm_init(rt_farm *f, int *argc, char ***argv);
 void rt_farm_finalize(rt_farm *f);
+/* The MPI library this program was linked with (MPI_Get_library_version,
+ * first line), or "none" in a build without MPI. Needs no MPI_Init. */
+const char *rt_farm_mpi_version(void);
 /* Prints "rt-mpi: error: [rank N: ]msg" and ends every rank with code. */
 void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
 /* Ends the whole job with code, without a message. */

@@ -83,6 +83,22 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
     return RT_OK;
 }
 
+const char *rt_farm_mpi_version(void)
+{
+#ifdef RT_HAVE_MPI
+    /* One of the few MPI calls allowed before MPI_Init. */
+    static char v[MPI_MAX_LIBRARY_VERSION_STRING];
+    int len = 0;
+    if (!v[0] && MPI_Get_library_version(v, &len) == MPI_SUCCESS) {
+        v[len > 0 && len < (int)sizeof v ? len : 0] = 0;
+        v[strcspn(v, "\n")] = 0;
+    }
+    return v[0] ? v : "unknown";
+#else
+    return "none";
+#endif
+}
+
 void rt_farm_finalize(rt_farm *f)
 {
 #ifdef RT_HAVE_MPI

@@ -1,5 +1,6 @@
 /* exr.c - OpenEXR through OpenEXR's C library: linear float RGB, written
- * to our atomic file. */
+ * to our atomic file, with what made the image (the rt_text the PNG keeps
+ * in text chunks) as string attributes that exrheader shows. */
 #include <errno.h>
 #include <openexr.h>
 #include <stdlib.h>
@@ -44,8 +45,10 @@ static void exr_quiet(exr_const_context_t ctxt, exr_result_t code, const char *m
     (void)msg;
 }
 
-/* Float R, G, B channels, ZIP (lossless), scanlines from the top. */
-static exr_result_t exr_encode_all(exr_context_t ctx, const float *rgb, uint32_t width, uint32_t height)
+/* Float R, G, B channels, ZIP (lossless), scanlines from the top; the
+ * texts as string attributes of the part. */
+static exr_result_t exr_encode_all(exr_context_t ctx, const float *rgb, uint32_t width, uint32_t height,
+                                   const rt_image_write_opts *o)
 {
     int part;
     exr_result_t rv = exr_add_part(ctx, "rgb", EXR_STORAGE_SCANLINE, &part);
@@ -54,6 +57,8 @@ static exr_result_t exr_encode_all(exr_context_t ctx, const float *rgb, uint32_t
     static const char *const names[3] = {"R", "G", "B"};
     for (int c = 0; c < 3 && !rv; c++)
         rv = exr_add_channel(ctx, part, names[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    for (int i = 0; o && i < o->n_text && !rv; i++)
+        rv = exr_attr_set_string(ctx, part, o->text[i].key, o->text[i].value);
     if (!rv)
         rv = exr_write_header(ctx);
     int32_t lines = 0;
@@ -92,7 +97,8 @@ static exr_result_t exr_encode_all(exr_context_t ctx, const float *rgb, uint32_t
     return rv;
 }
 
-static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height)
+static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_t height,
+                     const rt_image_write_opts *o)
 {
     if (!width || !height || width > INT32_MAX || height > INT32_MAX)
         return RT_EINVAL;
@@ -110,7 +116,7 @@ static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_
     exr_context_t ctx = NULL;
     exr_result_t rv = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (!rv)
-        rv = exr_encode_all(ctx, rgb, width, height);
+        rv = exr_encode_all(ctx, rgb, width, height, o);
     /* exr_finish writes the chunk offset table: its result counts too. */
     exr_result_t fin = ctx ? exr_finish(&ctx) : EXR_ERR_SUCCESS;
     if (rv || fin) {
@@ -125,8 +131,7 @@ static int exr_write(const char *path, const float *rgb, uint32_t width, uint32_
 
 static int write_exr(const char *path, const void *px, uint32_t width, uint32_t height, const rt_image_write_opts *o)
 {
-    (void)o;
-    return exr_write(path, px, width, height);
+    return exr_write(path, px, width, height, o);
 }
 
 const rt_format rt_format_exr = {RT_FORMAT_EXR, ".exr", 1, 0, write_exr};

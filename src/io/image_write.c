@@ -8,7 +8,15 @@
 
 #include "formats.h"
 #include "image.h"
+#include "rt_config.h"
 #include "status.h"
+
+#if !RT_HAVE_EXR
+/* Built without OpenEXR: the extension is still known, so that a .exr
+ * output is refused as a missing feature rather than an unknown type. */
+static const rt_format exr_missing = {RT_FORMAT_EXR, ".exr", 1, 0, NULL};
+#define rt_format_exr exr_missing
+#endif
 
 static const rt_format *const FORMATS[] = {&rt_format_png, &rt_format_ppm, &rt_format_bmp, &rt_format_pfm,
                                            &rt_format_exr};
@@ -35,12 +43,18 @@ rt_image_format rt_image_format_from_path(const char *path)
 
 const char *rt_image_format_list(void) { return ".png, .ppm, .bmp, .pfm, .exr"; }
 
+int rt_image_format_available(rt_image_format id)
+{
+    const rt_format *f = format_of(id);
+    return f && f->write;
+}
+
 int rt_image_check_opts(rt_image_format id, const rt_image_write_opts *o)
 {
     const rt_format *f = format_of(id);
     if (o->bit_depth != 8 && o->bit_depth != 16)
         return RT_EINVAL;
-    if (!f || (o->bit_depth == 16 && !f->deep) || (o->ppm_ascii && id != RT_FORMAT_PPM))
+    if (!f || !f->write || (o->bit_depth == 16 && !f->deep) || (o->ppm_ascii && id != RT_FORMAT_PPM))
         return RT_EUNSUPPORTED;
     return RT_OK;
 }

@@ -19,7 +19,8 @@ typedef enum rt_image_format {
 } rt_image_format;
 
 /* A key and value the file records about how it was made (PNG text
- * chunks; the other formats have no place for them). */
+ * chunks, EXR string attributes; the other formats have no place for
+ * them). */
 typedef struct rt_text {
     const char *key, *value;
 } rt_text;
@@ -29,6 +30,8 @@ typedef struct rt_text {
 rt_image_format rt_image_format_from_path(const char *path);
 /* ".png, .ppm, .bmp, .pfm, .exr" for messages. */
 const char *rt_image_format_list(void);
+/* Whether this build writes the format (.exr needs OpenEXR): 1 or 0. */
+int rt_image_format_available(rt_image_format id);
 
 typedef struct rt_image_write_opts {
     int bit_depth;       /* 8 or 16 (PNG and PPM); ignored by float formats */
@@ -38,7 +41,8 @@ typedef struct rt_image_write_opts {
 } rt_image_write_opts;
 
 /* Checks that the options suit the format: RT_EUNSUPPORTED for 16 bits in
- * a BMP, PFM or EXR, or P3 in anything but a PPM; RT_EINVAL for a bit depth
+ * a BMP, PFM or EXR, P3 in anything but a PPM, or a format this build does
+ * not write; RT_EINVAL for a bit depth
  * other than 8 or 16. */
 int rt_image_check_opts(rt_image_format fmt, const rt_image_write_opts *o);
 

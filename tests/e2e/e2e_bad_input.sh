@@ -34,7 +34,9 @@ expect_error "negative threads" "not a whole number" -j -1 -o "$OUT"
 expect_error "absurd threads" "out of range" -j 100000 -o "$OUT"
 expect_error "unknown option" "unknown option '--bogus'" --bogus -o "$OUT"
 expect_error "missing value" "needs a value" -o "$OUT" --width
-expect_error "stray argument" "unexpected argument" -o "$OUT" stray
+# A word that is no option is the scene file: one at most, and it must be there.
+expect_error "second scene file" "unexpected argument 'b.json': one scene file only" -o "$OUT" a.json b.json
+expect_error "missing scene file" "nowhere.json" -o "$OUT" "$WORK/nowhere.json"
 expect_error "missing directory" "directory does not exist" -o "$WORK/nodir/x.png"
 expect_error "unsupported extension" "unsupported file type '.jpg'" -o "$WORK/x.jpg"
 expect_error "output is a directory" "is a directory" -o "$WORK/adir.png"

@@ -82,7 +82,7 @@ if [ -n "$MPIRUN" ]; then
     # A process started by hand runs without MPI (Open MPI would make it a
     # singleton and fork an orted, ~0.4 s); one an MPI launcher starts, or
     # one told RT_MPI_INIT=1, initialises MPI.
-    mpi_flag() { sed -n 's/.*"mpi": \([a-z]*\).*/\1/p' "$1"; }
+    mpi_flag() { sed -n 's/.*"mpi":[[:space:]]*\([a-z]*\).*/\1/p' "$1"; }
     "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m1.json" >/dev/null
     check_eq "started by hand: MPI not initialised" "$(mpi_flag "$WORK/m1.json")" false
     RT_MPI_INIT=1 "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m2.json" >/dev/null
@@ -93,7 +93,7 @@ fi
 # -j 0 takes every core also when OpenMP binds its threads (OMP_PROC_BIND:
 # the runtime pins the main thread to one core before main starts, so the
 # affinity mask alone would say one core).
-threads_of() { sed -n 's/.*"threads_per_rank": \([0-9]*\).*/\1/p' "$1"; }
+threads_of() { sed -n 's/.*"threads_per_rank":[[:space:]]*\([0-9]*\).*/\1/p' "$1"; }
 "$BIN" "${ARGS[@]}" -j 0 -o "$WORK/t.png" --stats "$WORK/t0.json" >/dev/null
 OMP_PROC_BIND=true "$BIN" "${ARGS[@]}" -j 0 -o "$WORK/t.png" --stats "$WORK/t1.json" >/dev/null 2>"$WORK/t1.err"
 check_eq "-j 0 threads with OMP_PROC_BIND=true (as without: $(threads_of "$WORK/t0.json"))" \

@@ -1,5 +1,6 @@
 /* test_cli.c - the option parser: defaults, every way of giving a value,
- * each kind of bad input with its one-line message, RT_ACCEL, and the
+ * the positional scene file, each kind of bad input with its one-line
+ * message (and "did you mean"), RT_ACCEL, the help's topics, and the
  * checks of output paths. Each case parses its own argv from defaults. */
 #include <stdarg.h>
 #include <stdlib.h>
@@ -85,14 +86,92 @@ int main(void)
     check_err("--no-checkpoint cannot be combined");
     CHECK_EQ_INT(parse("--width", "1", NULL), RT_CLI_ERROR);
     check_err("gives a height of 0");
-    CHECK_EQ_INT(parse("stray", NULL), RT_CLI_ERROR);
-    check_err("unexpected argument 'stray'");
+
+    /* A mistyped long option: the nearest one (also for a unique start of
+     * one), or only "see --help" when none is near. */
+    CHECK_EQ_INT(parse("--wdith", "3", NULL), RT_CLI_ERROR);
+    check_err("(did you mean --width?)");
+    CHECK_EQ_INT(parse("--widht=3", NULL), RT_CLI_ERROR);
+    check_err("unknown option '--widht' (did you mean --width?)");
+    CHECK_EQ_INT(parse("--smaples", "3", NULL), RT_CLI_ERROR);
+    check_err("(did you mean --samples?)");
+    CHECK_EQ_INT(parse("--chekpoint-interval", "3", NULL), RT_CLI_ERROR);
+    check_err("(did you mean --checkpoint-interval?)");
+    CHECK_EQ_INT(parse("--no-checkpiont", NULL), RT_CLI_ERROR);
+    check_err("(did you mean --no-checkpoint?)");
+    CHECK_EQ_INT(parse("--samp", "3", NULL), RT_CLI_ERROR);
+    check_err("(did you mean --samples?)");
+    CHECK_EQ_INT(parse("--bogus", NULL), RT_CLI_ERROR);
+    check_err("unknown option '--bogus' (see --help)");
+    CHECK_EQ_INT(parse("--s", "3", NULL), RT_CLI_ERROR); /* the start of several */
+    check_err("unknown option '--s' (see --help)");
+
+    /* The scene file as a word of its own, anywhere among the options. */
+    CHECK_EQ_INT(parse("-s", "4", "scenes/example.json", "-o", "x.png", NULL), RT_CLI_RUN);
+    CHECK(opt.scene_file && !strcmp(opt.scene_file, "scenes/example.json"));
+    CHECK(opt.scene == NULL);
+    CHECK_EQ_INT(opt.job.samples, 4);
+    CHECK_EQ_INT(parse("--", "-odd.json", NULL), RT_CLI_RUN); /* after "--", no options */
+    CHECK(opt.scene_file && !strcmp(opt.scene_file, "-odd.json"));
+    CHECK_EQ_INT(parse("a.json", "b.json", NULL), RT_CLI_ERROR);
+    check_err("unexpected argument 'b.json': one scene file only");
+    CHECK_EQ_INT(parse("a.json", "--scene-file", "b.json", NULL), RT_CLI_ERROR);
+    check_err("scene file 'a.json' and --scene-file b.json: give one or the other");
+    CHECK_EQ_INT(parse("--scene", "final", "a.json", NULL), RT_CLI_ERROR);
+    check_err("--scene and a scene file: give one or the other");
+    CHECK_EQ_INT(parse("", NULL), RT_CLI_ERROR);
+    check_err("scene file: empty file name");
 
     /* --help wins over a run and over other actions; not over bad input
      * met before it. */
     CHECK_EQ_INT(parse("--version", "--help", NULL), RT_CLI_HELP);
     CHECK_EQ_INT(parse("--list-scenes", NULL), RT_CLI_LIST_SCENES);
     CHECK_EQ_INT(parse("--dump-scene", "s.json", NULL), RT_CLI_DUMP_SCENE);
+
+    /* The help: every long option, grouped by topic in this order, the
+     * developer knobs in a group of their own after the user's, then
+     * examples, the environment and the exit status. */
+    const char *help = rt_cli_usage();
+    static const char *const topics[] = {"\nOutput:\n",      "\nScene:\n",       "\nSampling:\n",
+                                         "\nParallel:\n",    "\nCheckpoint:\n",  "\nDiagnostics:\n",
+                                         "\nDeveloper and benchmark options:\n", "\nExamples:\n",
+                                         "\nEnvironment:\n", "\nExit status:\n"};
+    const char *prev = help;
+    for (size_t i = 0; i < sizeof topics / sizeof topics[0]; i++) {
+        const char *at = strstr(help, topics[i]);
+        if (!at || at < prev)
+            fprintf(stderr, "  topic %s missing or out of order\n", topics[i] + 1);
+        CHECK(at != NULL && at >= prev);
+        prev = at ? at : prev;
+    }
+    const char *dev = strstr(help, "\nDeveloper and benchmark options:\n");
+    const char *examples = strstr(help, "\nExamples:\n");
+    size_t n_long = 0;
+    for (const char *name; (name = rt_cli_long_option(n_long)); n_long++) {
+        char item[64]; /* the option at the start of its item: "  --x" or ", --x" */
+        snprintf(item, sizeof item, "--%s ", name);
+        const char *at = NULL;
+        for (const char *p = strstr(help, item); p && !at; p = strstr(p + 1, item))
+            if (p[-1] == ' ' && (p[-2] == ' ' || p[-2] == ',') && p < examples)
+                at = p;
+        if (!at)
+            snprintf(item, sizeof item, "--%s\n", name), at = strstr(help, item);
+        int benchmark = !strcmp(name, "accel") || !strcmp(name, "prefetch") || !strcmp(name, "serve-only") ||
+                        !strcmp(name, "empty-units");
+        if (!at || (at > dev) != benchmark)
+            fprintf(stderr, "  --%s: %s\n", name, !at ? "not in the help" : "in the wrong group");
+        CHECK(at != NULL && (at > dev) == benchmark);
+    }
+    CHECK(n_long >= 30);
+    static const char *const env[] = {"\n  OMP_NUM_THREADS ", "\n  RT_BIND ", "\n  RT_ACCEL ", "\n  RT_MPI_INIT ",
+                                      "\n  OMPI_* "};
+    const char *env_at = strstr(help, "\nEnvironment:\n");
+    for (size_t i = 0; i < sizeof env / sizeof env[0]; i++) {
+        const char *at = strstr(help, env[i]);
+        if (!at || at < env_at)
+            fprintf(stderr, "  environment variable%s not in the Environment section\n", env[i] + 2);
+        CHECK(at != NULL && at > env_at);
+    }
 
     /* RT_ACCEL: a node's default among our BVH's variants; --accel wins. */
     setenv("RT_ACCEL", "bvh-scalar", 1);
