@@ -7,9 +7,10 @@ set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # What the tests need beyond the build: a real single-node Slurm, valgrind,
 # python3 for JSON checks and the scaling scripts, matplotlib for trace
-# plots, podman and debootstrap for the container image.
+# plots, podman and debootstrap for the container image and the Debian
+# package, dpkg-dev (dpkg-shlibdeps) for cpack, groff for the man page.
 export RT_EXTRA_PACKAGES="${RT_EXTRA_PACKAGES:-} slurm-wlm munge valgrind python3 python3-matplotlib"
-RT_EXTRA_PACKAGES+=" podman runc debootstrap uidmap"
+RT_EXTRA_PACKAGES+=" podman runc debootstrap uidmap dpkg-dev groff-base"
 "$ROOT/scripts/setup.sh" "$ROOT/build" -DBUILD_TESTING=ON >/dev/null
 # Every test must run here: a test that would skip (no permission, a
 # missing tool) fails instead, so CI cannot pass on skipped checks.
