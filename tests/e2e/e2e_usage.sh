@@ -68,16 +68,17 @@ EOF
 mkdir -p "$WORK/j"
 (cd "$WORK/j" && env -u SLURM_JOB_ID "$BIN" "${A[@]}" -o "$NAME" --stats s1.json --trace t1.json >/dev/null 2>&1)
 check_eq "hostile output name: exit status" $? 0
-(cd "$WORK/j" && check_json "one process" s1.json t1.json false 1 "" \
-    "$BIN" "${A[@]}" -o "$NAME" --stats s1.json --trace t1.json)
+# (check_json runs in this shell: a check in a subshell would not count)
+check_json "one process" "$WORK/j/s1.json" "$WORK/j/t1.json" false 1 "" \
+    "$BIN" "${A[@]}" -o "$NAME" --stats s1.json --trace t1.json
 check_eq "--version's MPI library in --stats" \
     "$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["mpi_library"])' "$WORK/j/s1.json")" "$MPILIB"
 if [ -n "$MPIRUN" ]; then
     (cd "$WORK/j" && SLURM_JOB_ID=4242 mpirun_np 2 "$BIN" "${A[@]}" -o "$NAME" --stats s2.json --trace t2.json \
         >/dev/null 2>&1)
     check_eq "mpirun -np 2, hostile output name: exit status" $? 0
-    (cd "$WORK/j" && check_json "mpirun -np 2 with SLURM_JOB_ID" s2.json t2.json true 2 4242 \
-        "$BIN" "${A[@]}" -o "$NAME" --stats s2.json --trace t2.json)
+    check_json "mpirun -np 2 with SLURM_JOB_ID" "$WORK/j/s2.json" "$WORK/j/t2.json" true 2 4242 \
+        "$BIN" "${A[@]}" -o "$NAME" --stats s2.json --trace t2.json
 else
     skip "mpirun cases (no MPI build)"
 fi

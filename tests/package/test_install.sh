@@ -47,6 +47,7 @@ for o in $(rt-mpi --help | sed '/^Examples:/,$d' | grep -o -- '--[a-z][a-z-]*' |
     grep -qF -- "\\fB$(sed 's/-/\\-/g' <<<"$o")\\fR" "$MAN" || missing+=" $o"
 done
 check_eq "every option of --help ($n) is an item of the man page; missing:" "${missing:-none}" none
+missing=""
 for s in OPTIONS EXAMPLES ENVIRONMENT '"EXIT STATUS"'; do
     grep -q "^\.SH $s\$" "$MAN" || missing+=" $s"
 done
