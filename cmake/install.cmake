@@ -9,7 +9,7 @@ include(GNUInstallDirs)
 set(RT_MAN_PAGE ${PROJECT_BINARY_DIR}/rt-mpi.1)
 add_custom_command(
   OUTPUT ${RT_MAN_PAGE}
-  COMMAND sh -c "\"$1\" --help | awk -v version=\"$2\" -f \"$3\" >\"$4.tmp\" && mv \"$4.tmp\" \"$4\""
+  COMMAND sh -c "\"$1\" --help >\"$4.help\" && awk -v version=\"$2\" -f \"$3\" \"$4.help\" >\"$4.tmp\" && mv \"$4.tmp\" \"$4\""
           sh $<TARGET_FILE:rt-mpi> ${PROJECT_VERSION} ${PROJECT_SOURCE_DIR}/cmake/help2man.awk ${RT_MAN_PAGE}
   DEPENDS rt-mpi ${PROJECT_SOURCE_DIR}/cmake/help2man.awk
   COMMENT "Generating the man page rt-mpi.1 from rt-mpi --help"
