@@ -12,6 +12,7 @@
 #include "image_formats.h"
 #include "material.h"
 #include "render.h" /* RT_MAX_SAMPLES */
+#include "sampler.h"
 #include "scenes.h"
 #include "status.h"
 
@@ -34,6 +35,7 @@ void rt_cli_defaults(rt_options *o)
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
     o->diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->sampler = RT_SAMPLER_SOBOL;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
     o->passes = 1;
@@ -72,6 +74,11 @@ const char *rt_cli_usage(void)
            "                           (the BVH with the portable box test that non-x86 nodes run)\n"
            "                           [default: bvh, or RT_ACCEL: bvh, bvh-sse or bvh-scalar]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
+           "      --sampler <NAME>     sobol (Owen-scrambled Sobol points: less noise for the same\n"
+           "                           samples) or random (independent random numbers: the images\n"
+           "                           of sampling version 2) [default: sobol]\n"
+           "      --roulette, --no-roulette  Russian roulette of paths after 3 bounces (unbiased)\n"
+           "                           [default: on with sobol, off with random]\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
            "      --checkpoint-interval <SECONDS>  Time between checkpoint writes (0: whenever rows complete) [default: 60]\n"
            "      --resume             Continue from the checkpoint (refused if it is from another job)\n"
@@ -148,6 +155,9 @@ static const optdef OPTS[] = {
     {"band", 0, K_U32, F(band), 0, MAX_DIM},
     {"accel", 0, K_CHOICE, 0, 0, 0},
     {"diffuse", 0, K_CHOICE, 0, 0, 0},
+    {"sampler", 0, K_CHOICE, 0, 0, 0},
+    {"roulette", 0, K_FLAG, F(roulette), 0, 0},
+    {"no-roulette", 0, K_FLAG, F(no_roulette), 0, 0},
     {"scene", 0, K_CHOICE, 0, 0, 0},
     {"bit-depth", 0, K_CHOICE, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
@@ -201,6 +211,12 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             return -1;
         }
         o->diffuse = k;
+    } else if (!strcmp(d->lng, "sampler")) {
+        if ((k = rt_sampler_parse(val)) < 0) {
+            snprintf(err, errlen, "%s: '%s' is not one of sobol, random", name, val);
+            return -1;
+        }
+        o->sampler = k;
     } else if (!strcmp(d->lng, "bit-depth")) {
         if (strcmp(val, "8") && strcmp(val, "16")) {
             snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
@@ -351,6 +367,11 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             return RT_CLI_ERROR;
         }
     }
+    if (o->roulette && o->no_roulette) {
+        snprintf(err, errlen, "--roulette and --no-roulette: give one or the other");
+        return RT_CLI_ERROR;
+    }
+    o->roulette = o->roulette || (!o->no_roulette && o->sampler == RT_SAMPLER_SOBOL);
     if (o->no_checkpoint && (o->resume || o->checkpoint)) {
         snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
         return RT_CLI_ERROR;

@@ -29,6 +29,11 @@ typedef struct rt_options {
     int quiet;
     int accel;   /* rt_accel_kind */
     int diffuse; /* rt_diffuse */
+    int sampler; /* rt_sampler_kind */
+    /* Russian roulette: after parsing 1 or 0; --roulette / --no-roulette,
+     * else on with the Sobol sampler and off with the random one (whose
+     * images keep sampling version 2's bytes). */
+    int roulette, no_roulette;
     const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */

@@ -21,6 +21,7 @@
 #include "progress.h"
 #include "report.h"
 #include "render.h"
+#include "sampler.h"
 #include "scene.h"
 #include "scene_json.h"
 #include "scenes.h"
@@ -72,6 +73,10 @@ static int check_memory(const rt_options *o, char *err, size_t errlen)
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
     char scene[320], grid[32] = "", format[48] = "";
+    /* the roulette only when it is not the sampler's default */
+    const char *roulette = o->roulette == (o->sampler == RT_SAMPLER_SOBOL) ? ""
+                           : o->roulette                                  ? " --roulette"
+                                                                          : " --no-roulette";
     if (o->scene_file)
         snprintf(scene, sizeof scene, "--scene-file %s", o->scene_file);
     else
@@ -82,9 +87,10 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
         snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
                  o->ppm_ascii ? " --ppm-ascii" : "");
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
-             " --diffuse %s --accel %s%s",
+             " --diffuse %s --sampler %s%s --accel %s%s",
              scene, grid, o->width, o->height, o->samples, o->max_depth, o->seed,
-             rt_diffuse_name((rt_diffuse)o->diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
+             rt_diffuse_name((rt_diffuse)o->diffuse), rt_sampler_name(o->sampler), roulette,
+             rt_accel_name((rt_accel_kind)o->accel), format);
 }
 
 static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
@@ -262,7 +268,8 @@ int main(int argc, char **argv)
     if (st)
         rt_farm_fail(&farm, EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(opt.accel),
                      rt_status_str(st));
-    rt_render_params rp = {opt.width, opt.height, opt.samples, opt.max_depth, opt.seed, (rt_diffuse)opt.diffuse};
+    rt_render_params rp = {opt.width,     opt.height, opt.samples, opt.max_depth, opt.seed, (rt_diffuse)opt.diffuse,
+                           opt.sampler, opt.roulette, 0};
     rt_renderer renderer;
     st = rt_render_init(&renderer, &scene, accel, &rp);
     if (st)
@@ -300,7 +307,8 @@ int main(int argc, char **argv)
     job.checkpoint = opt.checkpoint;
     job.checkpoint_interval = opt.checkpoint_interval;
     rt_ckpt_job ck = {opt.width, opt.height, opt.samples, opt.max_depth, (uint32_t)opt.diffuse,
-                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash, RT_RENDER_SAMPLING};
+                      opt.accel != RT_ACCEL_EMBREE, opt.seed, scene_hash, RT_RENDER_SAMPLING,
+                      (uint32_t)opt.sampler, (uint32_t)opt.roulette};
     job.ckpt_job = ck;
     job.trace = opt.trace != NULL;
 

@@ -10,7 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define RT_CKPT_VERSION 3u
+#define RT_CKPT_VERSION 4u
 
 /* Everything that changes a pixel. */
 typedef struct rt_ckpt_job {
@@ -18,6 +18,7 @@ typedef struct rt_ckpt_job {
     uint32_t diffuse, exact; /* exact = 0 only for the Embree intersector */
     uint64_t seed, scene_hash;
     uint32_t sampling; /* RT_RENDER_SAMPLING of the build */
+    uint32_t sampler, roulette; /* rt_sampler_kind; 1 with Russian roulette */
 } rt_ckpt_job;
 
 /* committed: per row, the samples [0, committed) its sums cover; acc:
