@@ -33,6 +33,8 @@ fi
 expect_error "negative threads" "not a whole number" -j -1 -o "$OUT"
 expect_error "absurd threads" "out of range" -j 100000 -o "$OUT"
 expect_error "unknown option" "unknown option '--bogus'" --bogus -o "$OUT"
+expect_error "unknown sampler" "--sampler: 'halton' is not one of sobol, random" --sampler halton -o "$OUT"
+expect_error "roulette both ways" "--roulette and --no-roulette" --roulette --no-roulette -o "$OUT"
 expect_error "missing value" "needs a value" -o "$OUT" --width
 expect_error "stray argument" "unexpected argument" -o "$OUT" stray
 expect_error "missing directory" "directory does not exist" -o "$WORK/nodir/x.png"
