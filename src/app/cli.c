@@ -13,6 +13,7 @@
 #include "material.h"
 #include "render.h" /* RT_MAX_SAMPLES */
 #include "rt_config.h"
+#include "sampler.h"
 #include "scenes.h"
 #include "status.h"
 
@@ -35,6 +36,7 @@ void rt_cli_defaults(rt_options *o)
     o->band = 0;
     o->accel = RT_ACCEL_BVH;
     o->job.diffuse = RT_DIFFUSE_LAMBERTIAN;
+    o->job.sampler = RT_SAMPLER_SOBOL;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
     o->passes = 1;
@@ -76,6 +78,12 @@ const char *rt_cli_usage(void)
            "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
            "      --max-depth <DEPTH>  Maximum ray segments per path [default: 50]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
+           "      --sampler <NAME>     sobol (Owen-scrambled Sobol points: less noise for the same\n"
+           "                           samples) or random (independent random numbers: the images\n"
+           "                           of sampling version 2) [default: sobol]\n"
+           "      --roulette           Russian roulette (unbiased) of dim paths after 3 bounces\n"
+           "                           [default: on with sobol, off with random]\n"
+           "      --no-roulette        No Russian roulette\n"
            "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
            "                           image, rewriting a preview after each [default: 1]\n"
            "      --preview <FILE>     Preview image of --passes [default: the output]\n"
@@ -197,6 +205,9 @@ static const optdef OPTS[] = {
     {"band", 0, K_U32, F(band), 0, MAX_DIM},
     {"accel", 0, K_CHOICE, 0, 0, 0},
     {"diffuse", 0, K_CHOICE, 0, 0, 0},
+    {"sampler", 0, K_CHOICE, 0, 0, 0},
+    {"roulette", 0, K_FLAG, F(roulette), 0, 0},
+    {"no-roulette", 0, K_FLAG, F(no_roulette), 0, 0},
     {"scene", 0, K_CHOICE, 0, 0, 0},
     {"bit-depth", 0, K_CHOICE, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
@@ -252,6 +263,12 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             return RT_EINVAL;
         }
         o->job.diffuse = (rt_diffuse)k;
+    } else if (!strcmp(d->lng, "sampler")) {
+        if ((k = rt_sampler_parse(val)) < 0) {
+            snprintf(err, errlen, "%s: '%s' is not one of sobol, random", name, val);
+            return RT_EINVAL;
+        }
+        o->job.sampler = (rt_sampler_kind)k;
     } else if (!strcmp(d->lng, "bit-depth")) {
         if (strcmp(val, "8") && strcmp(val, "16")) {
             snprintf(err, errlen, "%s: '%s' is not 8 or 16", name, val);
@@ -492,6 +509,11 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
             return RT_CLI_ERROR;
         }
     }
+    if (o->roulette && o->no_roulette) {
+        snprintf(err, errlen, "--roulette and --no-roulette: give one or the other");
+        return RT_CLI_ERROR;
+    }
+    o->job.roulette = o->roulette || (!o->no_roulette && o->job.sampler == RT_SAMPLER_SOBOL);
     if (o->no_checkpoint && (o->resume || o->checkpoint)) {
         snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
         return RT_CLI_ERROR;

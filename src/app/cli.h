@@ -25,6 +25,10 @@ typedef struct rt_options {
     uint32_t band; /* rows per work unit; 0 = automatic */
     int quiet;
     int accel;   /* rt_accel_kind */
+    /* Russian roulette as asked: --roulette / --no-roulette; after parsing,
+     * job.roulette holds the outcome (else on with the Sobol sampler and off
+     * with the random one, whose images keep sampling version 2's bytes). */
+    int roulette, no_roulette;
     const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */

@@ -227,6 +227,9 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     add_num(doc, "samples", s->job->samples, &ok);
     add_num(doc, "max_depth", s->job->max_depth, &ok);
     add_u64(doc, "seed", s->job->seed, &ok);
+    add_str(doc, "diffuse", rt_diffuse_name(s->job->diffuse), &ok);
+    add_str(doc, "sampler", rt_sampler_name(s->job->sampler), &ok);
+    add(doc, "roulette", cJSON_CreateBool(s->job->roulette), &ok);
     add_hex(doc, "scene_hash", s->scene_hash, &ok);
     add_hex(doc, "image_hash", s->image_hash, &ok);
     add_str(doc, "intersector", s->intersector, &ok);

@@ -22,6 +22,16 @@
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
     char scene[320], grid[32] = "", format[48] = "";
+    /* the roulette only when it is not the sampler's default */
+    const char *roulette = o->job.roulette == (o->job.sampler == RT_SAMPLER_SOBOL) ? ""
+                           : o->job.roulette                                      ? " --roulette"
+                                                                                  : " --no-roulette";
+    /* Our BVH's variants find the very same hits: the file names the BVH,
+     * not the box test of rank 0's node (RT_ACCEL), so the same job on
+     * another mix of hosts writes the same bytes. */
+    rt_accel_kind accel = (rt_accel_kind)o->accel;
+    if (accel == RT_ACCEL_BVH_SSE || accel == RT_ACCEL_BVH_SCALAR)
+        accel = RT_ACCEL_BVH;
     if (o->scene_file)
         snprintf(scene, sizeof scene, "--scene-file %s", o->scene_file);
     else
@@ -32,9 +42,10 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
         snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
                  o->ppm_ascii ? " --ppm-ascii" : "");
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
-             " --diffuse %s --accel %s%s",
+             " --diffuse %s --sampler %s%s --accel %s%s",
              scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
-             rt_diffuse_name(o->job.diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
+             rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette, rt_accel_name(accel),
+             format);
 }
 
 /* The output file, with what made it (PNG text chunks, EXR attributes): no

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "material.h"
+#include "sampler.h"
 
 typedef struct rt_job {
     uint32_t width, height;
@@ -15,6 +16,11 @@ typedef struct rt_job {
     uint32_t max_depth; /* maximum ray segments per path */
     uint64_t seed;      /* scene and sampling seed */
     rt_diffuse diffuse;
+    rt_sampler_kind sampler; /* RT_SAMPLER_RANDOM (0) draws sampling version 2's numbers */
+    int roulette;            /* Russian roulette after roulette_depth bounces */
+    /* Bounces before the roulette; 0 means RT_RENDER_ROULETTE_DEPTH (tests
+     * start it at the first bounce, where a furnace shows its weight). */
+    uint32_t roulette_depth;
 } rt_job;
 
 #endif

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "sample.h"
+#include "sampler.h"
 
 static const char *const DIFFUSE_NAMES[] = {"lambertian", "sphere", "hemisphere"}; /* rt_diffuse order */
 
@@ -48,18 +48,18 @@ static rt_vec3 refract(rt_vec3 uv, rt_vec3 n, double etai_over_etat, double cos_
 }
 
 int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface *rec, rt_diffuse model,
-                        rt_rng *rng, rt_vec3 *attenuation, rt_ray *scattered)
+                        rt_sampler *smp, rt_vec3 *attenuation, rt_ray *scattered)
 {
     scattered->orig = rec->p;
     switch (m->kind) {
     case RT_MAT_LAMBERTIAN: {
         rt_vec3 dir;
         if (model == RT_DIFFUSE_HEMISPHERE)
-            dir = rt_sample_in_hemisphere(rng, rec->normal);
+            dir = rt_sampler_in_hemisphere(smp, rec->normal);
         else if (model == RT_DIFFUSE_SPHERE)
-            dir = rt_v3_add(rec->normal, rt_sample_in_unit_sphere(rng));
+            dir = rt_v3_add(rec->normal, rt_sampler_in_unit_sphere(smp));
         else
-            dir = rt_v3_add(rec->normal, rt_sample_unit_vector(rng));
+            dir = rt_v3_add(rec->normal, rt_sampler_unit_vector(smp));
         if (rt_v3_near_zero(dir))
             dir = rec->normal;
         scattered->dir = dir;
@@ -69,7 +69,7 @@ int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface
     case RT_MAT_METAL: {
         rt_vec3 reflected = rt_v3_reflect(rt_v3_unit(in->dir), rec->normal);
         if (m->fuzz > 0.0)
-            reflected = rt_v3_add(reflected, rt_v3_scale(rt_sample_in_unit_sphere(rng), m->fuzz));
+            reflected = rt_v3_add(reflected, rt_v3_scale(rt_sampler_in_unit_sphere(smp), m->fuzz));
         scattered->dir = reflected;
         *attenuation = m->albedo;
         return rt_v3_dot(reflected, rec->normal) > 0.0;
@@ -80,7 +80,7 @@ int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface
         double cos_theta = fmin(-rt_v3_dot(ud, rec->normal), 1.0);
         double sin_theta = sqrt(1.0 - cos_theta * cos_theta);
         int cannot_refract = ratio * sin_theta > 1.0;
-        if (cannot_refract || rt_material_reflectance(cos_theta, ratio) > rt_rng_double(rng))
+        if (cannot_refract || rt_material_reflectance(cos_theta, ratio) > rt_sampler_choice(smp))
             scattered->dir = rt_v3_reflect(ud, rec->normal);
         else
             scattered->dir = refract(ud, rec->normal, ratio, cos_theta);

@@ -3,7 +3,7 @@
 #ifndef RT_MATERIAL_H
 #define RT_MATERIAL_H
 
-#include "rng.h"
+#include "sampler.h"
 #include "scene.h"
 #include "vec.h"
 
@@ -29,8 +29,9 @@ typedef struct rt_surface {
 void rt_surface_from_sphere(rt_surface *rec, const rt_sphere *sp, const rt_ray *ray, double t);
 
 /* Returns 1 and fills attenuation/scattered when the ray scatters, 0 when it
- * is absorbed. */
+ * is absorbed. Draws its numbers from smp (the current bounce's, for Sobol:
+ * rt_sampler_bounce). */
 int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface *rec, rt_diffuse model,
-                        rt_rng *rng, rt_vec3 *attenuation, rt_ray *scattered);
+                        rt_sampler *smp, rt_vec3 *attenuation, rt_ray *scattered);
 
 #endif

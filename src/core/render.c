@@ -35,6 +35,8 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->scene = s;
     r->accel = a;
     r->job = *job;
+    if (!r->job.roulette_depth)
+        r->job.roulette_depth = RT_RENDER_ROULETTE_DEPTH;
     r->stop = NULL;
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     r->primary = NULL;
@@ -47,27 +49,33 @@ static inline uint64_t pixel_key(const rt_renderer *r, uint32_t x, uint32_t y)
     return rt_rng_pixel_key(r->job.seed, (uint64_t)y * r->job.width + x);
 }
 
-/* The camera ray of one sample of pixel (x, y) (key: pixel_key), drawn from
- * the start of the sample's RNG stream, which *rng is left at for the rest
- * of its path. */
+/* The camera ray of one sample of pixel (x, y) (key: pixel_key): starts
+ * the sample's sampler *smp, which the rest of its path draws from. */
 static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer *r, uint32_t x, uint32_t y,
-                                                               uint64_t key, uint32_t sample, rt_rng *rng)
+                                                               uint64_t key, uint32_t sample, rt_sampler *smp)
 {
     const uint32_t W = r->job.width, H = r->job.height;
-    *rng = rt_rng_for_pixel_sample(key, sample);
+    *smp = rt_sampler_start(r->job.sampler, key, sample);
+    double du, dv;
+    rt_sampler_pixel(smp, &du, &dv);
     /* The seed renderer's mapping: v counts rows from the bottom. */
-    double u = ((double)x + rt_rng_double(rng)) / (double)(W > 1 ? W - 1 : 1);
-    double v = ((double)(H - 1 - y) + rt_rng_double(rng)) / (double)(H > 1 ? H - 1 : 1);
-    return rt_camera_ray(&r->camera, u, v, rng);
+    double u = ((double)x + du) / (double)(W > 1 ? W - 1 : 1);
+    double v = ((double)(H - 1 - y) + dv) / (double)(H > 1 ? H - 1 : 1);
+    if (r->camera.lens_radius > 0.0) { /* only then a lens sample (rt_camera_ray) */
+        rt_vec3 d = rt_sampler_disk(smp);
+        return rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
+    }
+    return rt_camera_ray_lens(&r->camera, u, v, 0.0, 0.0);
 }
 
-/* One segment of a path, after its closest-hit query (found, *hit): a
- * miss ends the path with the sky's light through *throughput, into *color;
- * a hit scatters *ray on into the next segment and returns 1, unless the
- * material absorbs it (the path ends dark, *color stays black). */
+/* One segment of a path (the one at depth), after its closest-hit query
+ * (found, *hit): a miss ends the path with the sky's light through
+ * *throughput, into *color; a hit scatters *ray on into the next segment
+ * and returns 1, unless the material absorbs it or the roulette ends the
+ * path (it ends dark, *color stays black). */
 static inline __attribute__((always_inline)) int path_step(const rt_renderer *r, rt_ray *ray, int found,
-                                                           const rt_hit *hit, rt_rng *rng, rt_vec3 *throughput,
-                                                           rt_vec3 *color)
+                                                           const rt_hit *hit, rt_sampler *smp, uint32_t depth,
+                                                           rt_vec3 *throughput, rt_vec3 *color)
 {
     const rt_scene *s = r->scene;
     if (!found) {
@@ -82,10 +90,29 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
     rt_surface_from_sphere(&rec, sp, ray, hit->t);
     rt_vec3 att;
     rt_ray next;
-    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->job.diffuse, rng, &att, &next))
+    rt_sampler_bounce(smp, depth);
+    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->job.diffuse, smp, &att, &next))
         return 0;
     *throughput = rt_v3_mul(*throughput, att);
     *ray = next;
+    if (r->job.roulette && depth + 1 >= r->job.roulette_depth) {
+        /* Russian roulette: the path goes on with probability q, its
+         * throughput divided by q, so its expectation is unchanged. q is
+         * the throughput's largest channel over RT_RENDER_ROULETTE_KEEP
+         * (at most 1): a path that can still bring that much light is
+         * kept, and a survivor's throughput is at most that in every
+         * channel, so the roulette never makes a sample brighter than the
+         * sky (nothing for RT_SAMPLE_MAX to clip). */
+        double q = throughput->x;
+        q = throughput->y > q ? throughput->y : q;
+        q = throughput->z > q ? throughput->z : q;
+        q *= 1.0 / RT_RENDER_ROULETTE_KEEP;
+        if (q < 1.0) {
+            if (!(rt_sampler_roulette(smp) < q))
+                return 0;
+            *throughput = rt_v3_scale(*throughput, 1.0 / q);
+        }
+    }
     return 1;
 }
 
@@ -93,7 +120,7 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
  * and throughput so far; returns the light it brings. rays as for
  * trace_path; with avx, the closest hits come from the BVH's AVX traversal
  * (r->bvh_avx), and the caller must be compiled for AVX. */
-static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_renderer *r, rt_ray ray, rt_rng *rng,
+static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_renderer *r, rt_ray ray, rt_sampler *smp,
                                                                 rt_vec3 throughput, uint32_t depth0,
                                                                 uint64_t *segments, rt_ray *rays, const int avx,
                                                                 uint32_t pfirst, int32_t pn)
@@ -124,7 +151,7 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
             found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
         (void)avx;
 #endif
-        if (!path_step(r, &ray, found, &hit, rng, &throughput, &color))
+        if (!path_step(r, &ray, found, &hit, smp, depth, &throughput, &color))
             break;
     }
     *segments += segs;
@@ -134,12 +161,12 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
 /* One sample's path from its camera ray, one segment after the other;
  * when rays is not NULL, every ray traced is stored there (rt_render_sample
  * passes NULL, and the stores fold away). */
-static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_rng *rng,
+static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_sampler *smp,
                                                                 uint64_t *segments, rt_ray *rays, uint32_t pfirst,
                                                                 int32_t pn)
 {
     rt_vec3 throughput = rt_v3(1, 1, 1);
-    return trace_rest(r, ray, rng, throughput, 0, segments, rays, 0, pfirst, pn);
+    return trace_rest(r, ray, smp, throughput, 0, segments, rays, 0, pfirst, pn);
 }
 
 /* The camera rays' list of pixel (x, y) (rt_primary_tile), -1 for none. */
@@ -151,21 +178,21 @@ static inline int32_t primary_list(const rt_renderer *r, uint32_t x, uint32_t y,
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
-    rt_rng rng;
-    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
+    rt_sampler smp;
+    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &smp);
     uint32_t pfirst;
     int32_t pn = primary_list(r, x, y, &pfirst);
-    return trace_path(r, ray, &rng, segments, NULL, pfirst, pn);
+    return trace_path(r, ray, &smp, segments, NULL, pfirst, pn);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
 {
     uint64_t segs = 0;
-    rt_rng rng;
-    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &rng);
+    rt_sampler smp;
+    rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &smp);
     uint32_t pfirst;
     int32_t pn = primary_list(r, x, y, &pfirst);
-    trace_path(r, ray, &rng, &segs, rays, pfirst, pn);
+    trace_path(r, ray, &smp, &segs, rays, pfirst, pn);
     return (uint32_t)segs;
 }
 
@@ -197,15 +224,16 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
          * paths 0.94, for all eight 1.05). Each ray gets the hit its own
          * traversal would find (rt_sphere_closer's rule), and each path
          * draws from its own RNG, so the pixels are the same bits as from
-         * trace_path. */
+         * trace_path (the same numbers in the same order, roulette
+         * included). */
         for (uint32_t s = s0; s < s1; s += PACKET) {
             const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET, all = (1 << n) - 1;
             rt_ray ray[PACKET];
-            rt_rng rng[PACKET];
+            rt_sampler smp[PACKET];
             rt_hit hit[PACKET];
             rt_vec3 thr[PACKET], col[PACKET];
             for (int k = 0; k < n; k++) {
-                ray[k] = camera_ray(r, x, y, key, s + (uint32_t)k, &rng[k]);
+                ray[k] = camera_ray(r, x, y, key, s + (uint32_t)k, &smp[k]);
                 thr[k] = rt_v3(1, 1, 1);
                 col[k] = rt_v3(0, 0, 0);
             }
@@ -224,12 +252,12 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                  * instead of a branch on hit or miss in every lane */
                 for (int m = found; m; m &= m - 1) {
                     const int k = __builtin_ctz((unsigned)m);
-                    if (!path_step(r, &ray[k], 1, &hit[k], &rng[k], &thr[k], &col[k]))
+                    if (!path_step(r, &ray[k], 1, &hit[k], &smp[k], depth, &thr[k], &col[k]))
                         live &= ~(1 << k);
                 }
                 for (int m = all & ~found; m; m &= m - 1) {
                     const int k = __builtin_ctz((unsigned)m);
-                    path_step(r, &ray[k], 0, &hit[k], &rng[k], &thr[k], &col[k]);
+                    path_step(r, &ray[k], 0, &hit[k], &smp[k], depth, &thr[k], &col[k]);
                     live &= ~(1 << k);
                 }
             }
@@ -239,7 +267,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
              * warm better than taking the paths in turn. */
             for (; live; live &= live - 1) {
                 const int k = __builtin_ctz((unsigned)live);
-                col[k] = trace_rest(r, ray[k], &rng[k], thr[k], depth, &segs, NULL, 1, pfirst, pn);
+                col[k] = trace_rest(r, ray[k], &smp[k], thr[k], depth, &segs, NULL, 1, pfirst, pn);
             }
             for (int k = 0; k < n; k++)
                 add_fixed(acc, col[k]);
@@ -249,9 +277,9 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     (void)avx;
 #endif
         for (uint32_t s = s0; s < s1; s++) {
-            rt_rng rng;
-            rt_ray cam = camera_ray(r, x, y, key, s, &rng);
-            add_fixed(acc, trace_path(r, cam, &rng, &segs, NULL, pfirst, pn));
+            rt_sampler smp;
+            rt_ray cam = camera_ray(r, x, y, key, s, &smp);
+            add_fixed(acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn));
         }
     sum[0] = acc[0];
     sum[1] = acc[1];

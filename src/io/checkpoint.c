@@ -1,6 +1,7 @@
 /* checkpoint.c - checkpoint file format (little endian throughout):
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
- *   exact | u64 seed scene_hash | u32 sampling | u32 rows with samples |
+ *   exact | u64 seed scene_hash | u32 sampling sampler roulette |
+ *   u32 rows with samples |
  *   height u32 sample counts | for each row with samples, width*3 i64 sums |
  *   u64 FNV-1a of all before. */
 #include "checkpoint.h"
@@ -15,7 +16,7 @@
 #include "status.h"
 
 static const uint8_t MAGIC[8] = {'R', 'T', 'C', 'K', 'P', 'T', 0, 0};
-#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 + 4)
+#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 3 * 4 + 4)
 
 typedef struct hwriter {
     FILE *fp;
@@ -67,6 +68,8 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
     put_u64(&w, id->job.seed);
     put_u64(&w, id->scene_hash);
     put_u32(&w, id->sampling);
+    put_u32(&w, id->job.sampler);
+    put_u32(&w, (uint32_t)id->job.roulette);
     put_u32(&w, done);
     for (uint32_t y = 0; y < id->job.height; y++)
         put_u32(&w, committed[y]);
@@ -141,6 +144,8 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         {"seed", get_u64(p + 24), expect->job.seed},
         {"scene", get_u64(p + 32), expect->scene_hash},
         {"sampling version", get_u32(p + 40), expect->sampling},
+        {"sampler", get_u32(p + 44), expect->job.sampler},
+        {"roulette", get_u32(p + 48), (uint32_t)expect->job.roulette},
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         if (fields[i].got != fields[i].want) {
@@ -150,8 +155,8 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
             return RT_EMISMATCH;
         }
     }
-    uint32_t with = get_u32(p + 44);
-    const uint8_t *counts = p + 48;
+    uint32_t with = get_u32(p + 52);
+    const uint8_t *counts = p + 56;
     size_t rowlen = (size_t)expect->job.width * 3;
     size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
     uint32_t counted = 0, bad = 0;

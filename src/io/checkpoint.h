@@ -12,7 +12,7 @@
 
 #include "job.h"
 
-#define RT_CKPT_VERSION 3u
+#define RT_CKPT_VERSION 4u
 
 /* Everything that changes a pixel: the job, and what else decides its
  * samples' bits. */

@@ -33,6 +33,8 @@ fi
 expect_error "negative threads" "not a whole number" -j -1 -o "$OUT"
 expect_error "absurd threads" "out of range" -j 100000 -o "$OUT"
 expect_error "unknown option" "unknown option '--bogus'" --bogus -o "$OUT"
+expect_error "unknown sampler" "--sampler: 'halton' is not one of sobol, random" --sampler halton -o "$OUT"
+expect_error "roulette both ways" "--roulette and --no-roulette" --roulette --no-roulette -o "$OUT"
 expect_error "missing value" "needs a value" -o "$OUT" --width
 # A word that is no option is the scene file: one at most, and it must be there.
 expect_error "second scene file" "unexpected argument 'b.json': one scene file only" -o "$OUT" a.json b.json

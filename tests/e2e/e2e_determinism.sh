@@ -19,7 +19,7 @@ check_eq "PNG records the sampling version of --version" "$(sed -n 's/^rt-mpi:sa
     "$("$BIN" --version | sed -n 's/.*(sampling version \([0-9]*\)).*/\1/p')"
 read -r -a cmd <<<"$(sed -n 's/^rt-mpi:command=rt-mpi //p' "$WORK/ref.text")"
 check_eq "PNG records the options" "${cmd[*]}" \
-    "--scene final --grid 11 --width 96 --height 64 --samples 4 --max-depth 50 --seed 42 --diffuse lambertian --accel bvh"
+    "--scene final --grid 11 --width 96 --height 64 --samples 4 --max-depth 50 --seed 42 --diffuse lambertian --sampler sobol --accel bvh"
 if [ ${#cmd[@]} -gt 0 ]; then # (no command: the full default job would run)
     "$BIN" "${cmd[@]}" -q -o "$WORK/again.png" >/dev/null
     cmp -s "$WORK/ref.png" "$WORK/again.png" && pass "the PNG's own command renders it again" ||
@@ -117,6 +117,28 @@ if [ "$(nproc)" -ge 2 ] && command -v taskset >/dev/null; then
 else
     fail "thread binding: needs 2 CPUs and taskset"
 fi
+# The random sampler (--sampler random, no roulette) draws sampling version
+# 2's numbers: the book's image of every earlier build, bit for bit; its
+# PNG records the sampler, and it too is the same for any split of the work.
+"$BIN" --sampler random --width 200 -s 8 -j 2 -o "$WORK/r.png" >"$WORK/r.out"
+check_eq "--sampler random: version 2's image hash" "$(sed -n 's/^image hash: *//p' "$WORK/r.out")" 34cf01b07e64d0b7
+"$PNGINFO" --text "$WORK/r.png" | grep -q '^rt-mpi:command=.* --sampler random --accel' &&
+    pass "--sampler random in the PNG's command" || fail "the PNG's command does not name --sampler random"
+"$BIN" "${ARGS[@]}" --sampler random -j 1 -o "$WORK/r1.png" >/dev/null
+"$BIN" "${ARGS[@]}" --sampler random -j 2 --band 3 --passes 2 -o "$WORK/r2.png" >/dev/null
+cmp -s "$WORK/r1.png" "$WORK/r2.png" && pass "--sampler random: -j 1 and -j 2 --band 3 --passes 2 identical" ||
+    fail "--sampler random: -j 2 --band 3 --passes 2 differs from -j 1"
+if [ -n "$MPIRUN" ]; then
+    mpirun_np 2 "$BIN" "${ARGS[@]}" --sampler random -j 1 --band 5 -o "$WORK/r3.png" >/dev/null
+    cmp -s "$WORK/r1.png" "$WORK/r3.png" && pass "--sampler random: mpirun -np 2 identical" ||
+        fail "--sampler random: mpirun -np 2 differs"
+fi
+# Without the roulette the Sobol image differs from the default's, and its
+# PNG says so.
+"$BIN" "${ARGS[@]}" --no-roulette -o "$WORK/n.png" >/dev/null
+if cmp -s "$WORK/ref.png" "$WORK/n.png"; then fail "--no-roulette gave the default image"; else pass "--no-roulette changes the image"; fi
+"$PNGINFO" --text "$WORK/n.png" | grep -q '^rt-mpi:command=.* --sampler sobol --no-roulette --accel' &&
+    pass "--no-roulette in the PNG's command" || fail "the PNG's command does not name --no-roulette"
 # A different seed gives a different image (the comparison can fail).
 "$BIN" "${ARGS[@]}" --seed 7 -o "$WORK/s.png" >/dev/null
 if cmp -s "$WORK/ref.png" "$WORK/s.png"; then fail "seed 7 gave the seed-42 image"; else pass "seed changes the image"; fi

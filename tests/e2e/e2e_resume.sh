@@ -103,6 +103,9 @@ B=(--width 160 --height 96 -s 300 -q -o "$WORK/x.png")
 expect_refusal 3 "checkpoint of another job (samples)" "different job (samples 2" "$BIN" "${B[@]}" -s 3 --resume
 expect_refusal 3 "checkpoint of another job (seed)" "different job (seed" "$BIN" "${B[@]}" -s 2 --seed 5 --resume
 expect_refusal 3 "existing checkpoint without --resume" "pass --resume" "$BIN" "${B[@]}" -s 2
+# Samples of another sampler, or without the roulette, are not mixed in.
+expect_refusal 3 "checkpoint of another sampler" "different job (sampler 1" "$BIN" "${B[@]}" -s 2 --sampler random --resume
+expect_refusal 3 "checkpoint with the roulette" "different job (roulette 1" "$BIN" "${B[@]}" -s 2 --no-roulette --resume
 cp "$WORK/x.png.ckpt" "$WORK/y.ckpt"
 printf '\x01' | dd of="$WORK/x.png.ckpt" bs=1 seek=200 conv=notrunc 2>/dev/null
 expect_refusal 3 "corrupt checkpoint" "corrupt or truncated" "$BIN" "${B[@]}" -s 2 --resume

@@ -99,7 +99,7 @@ int main(void)
     check_err("(did you mean --checkpoint-interval?)");
     CHECK_EQ_INT(parse("--no-checkpiont", NULL), RT_CLI_ERROR);
     check_err("(did you mean --no-checkpoint?)");
-    CHECK_EQ_INT(parse("--samp", "3", NULL), RT_CLI_ERROR);
+    CHECK_EQ_INT(parse("--sampels", "3", NULL), RT_CLI_ERROR);
     check_err("(did you mean --samples?)");
     CHECK_EQ_INT(parse("--bogus", NULL), RT_CLI_ERROR);
     check_err("unknown option '--bogus' (see --help)");

@@ -1,7 +1,7 @@
 /* test_material.c - metal reflection angle, dielectric total internal
  * reflection, attenuation never above 1, diffuse directions above the
  * surface, and each diffuse model's distribution of directions against its
- * law (chi-square). */
+ * law (chi-square), drawn by either sampler. */
 #include "core_internal.h"
 #include "check.h"
 #include "material.h"
@@ -46,10 +46,12 @@ static double chi2_uniform(const double *u, long n, double (*cdf)(double))
 
 /* Scatters n rays off a lambertian surface with normal nrm (tilted, so no
  * axis is favoured); stores mu = cos(theta) and the azimuth around the
- * normal as a fraction of a turn. */
-static void diffuse_samples(rt_diffuse model, rt_vec3 nrm, long n, double *mu, double *azimuth)
+ * normal as a fraction of a turn. With the Sobol sampler, blocks of 1024
+ * samples of a pixel each, at bounces 0 to 4 (each its own pairs). */
+static void diffuse_samples(rt_sampler_kind kind, rt_diffuse model, rt_vec3 nrm, long n, double *mu,
+                            double *azimuth)
 {
-    rt_rng rng = rt_rng_for_stream(1000 + model, RT_STREAM_TEST);
+    rt_sampler smp = rt_sampler_from_rng(rt_rng_for_stream(1000 + model, RT_STREAM_TEST));
     rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0.0, 1.0};
     rt_surface s = {rt_v3(0, 0, 0), nrm, 1.0, 1};
     rt_vec3 t1 = rt_v3_unit(rt_v3_cross(nrm, rt_v3(1, 0, 0))), t2 = rt_v3_cross(nrm, t1);
@@ -57,7 +59,11 @@ static void diffuse_samples(rt_diffuse model, rt_vec3 nrm, long n, double *mu, d
     for (long i = 0; i < n; i++) {
         rt_vec3 att;
         rt_ray out;
-        rt_material_scatter(&m, &in, &s, model, &rng, &att, &out);
+        if (kind == RT_SAMPLER_SOBOL) {
+            smp = rt_sampler_start(kind, rt_rng_pixel_key(model, (uint64_t)(i >> 10)), (uint32_t)(i & 1023));
+            rt_sampler_bounce(&smp, (uint32_t)(i >> 10) % 5);
+        }
+        rt_material_scatter(&m, &in, &s, model, &smp, &att, &out);
         rt_vec3 d = rt_v3_unit(out.dir);
         mu[i] = rt_v3_dot(d, nrm);
         azimuth[i] = (atan2(rt_v3_dot(d, t2), rt_v3_dot(d, t1)) + PI) / (2 * PI);
@@ -71,31 +77,34 @@ static void check_diffuse_laws(void)
     enum { N = 200000 };
     static double mu[N], azimuth[N];
     rt_vec3 nrm = rt_v3_unit(rt_v3(0.3, 0.8, -0.52));
-    for (int model = 0; model < 3; model++) {
-        diffuse_samples((rt_diffuse)model, nrm, N, mu, azimuth);
-        double own = chi2_uniform(mu, N, law[model]);
-        printf("diffuse %-10s: chi2 of cos(theta) against its law %.1f (critical %.2f)", names[model], own,
-               CHI2_CRIT);
-        CHECK(own < CHI2_CRIT);
-        /* The test tells the three laws apart: each sample set fails the
-         * other two laws by a wide margin. */
-        for (int other = 0; other < 3; other++) {
-            if (other == model)
-                continue;
-            double x = chi2_uniform(mu, N, law[other]);
-            printf(", against %s %.0f", names[other], x);
-            CHECK(x > 100 * CHI2_CRIT);
+    for (int kind = 0; kind < 2; kind++) {
+        for (int model = 0; model < 3; model++) {
+            diffuse_samples((rt_sampler_kind)kind, (rt_diffuse)model, nrm, N, mu, azimuth);
+            double own = chi2_uniform(mu, N, law[model]);
+            printf("%s diffuse %-10s: chi2 of cos(theta) against its law %.1f (critical %.2f)", rt_sampler_name(kind),
+                   names[model], own, CHI2_CRIT);
+            CHECK(own < CHI2_CRIT);
+            /* The test tells the three laws apart: each sample set fails the
+             * other two laws by a wide margin. */
+            for (int other = 0; other < 3; other++) {
+                if (other == model)
+                    continue;
+                double x = chi2_uniform(mu, N, law[other]);
+                printf(", against %s %.0f", names[other], x);
+                CHECK(x > 100 * CHI2_CRIT);
+            }
+            /* Every model is symmetric about the normal: uniform azimuth. */
+            double xa = chi2_uniform(azimuth, N, NULL);
+            printf("; azimuth %.1f\n", xa);
+            CHECK(xa < CHI2_CRIT);
         }
-        /* Every model is symmetric about the normal: uniform azimuth. */
-        double xa = chi2_uniform(azimuth, N, NULL);
-        printf("; azimuth %.1f\n", xa);
-        CHECK(xa < CHI2_CRIT);
     }
 }
 
 int main(void)
 {
     rt_rng rng = rt_rng_for_stream(1, RT_STREAM_TEST);
+    rt_sampler smp = rt_sampler_from_rng(rt_rng_for_stream(2, RT_STREAM_TEST));
     rt_surface s = {rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1.0, 1};
     rt_vec3 att;
     rt_ray out;
@@ -103,7 +112,7 @@ int main(void)
     /* Mirror metal: angle of reflection equals angle of incidence. */
     rt_material mirror = {RT_MAT_METAL, rt_v3(0.7, 0.6, 0.5), 0.0, 1.0};
     rt_ray in = {rt_v3(-1, 1, 0), rt_v3(1, -1, 0)};
-    CHECK(rt_material_scatter(&mirror, &in, &s, RT_DIFFUSE_LAMBERTIAN, &rng, &att, &out));
+    CHECK(rt_material_scatter(&mirror, &in, &s, RT_DIFFUSE_LAMBERTIAN, &smp, &att, &out));
     rt_vec3 d = rt_v3_unit(out.dir);
     CHECK_NEAR(d.x, 1 / sqrt(2.0), 1e-12);
     CHECK_NEAR(d.y, 1 / sqrt(2.0), 1e-12);
@@ -117,7 +126,7 @@ int main(void)
     rt_ray graze = {rt_v3(-1, -0.2, 0), rt_v3(1, 0.2, 0)};
     int tir = 1;
     for (int i = 0; i < 1000; i++) {
-        CHECK(rt_material_scatter(&glass, &graze, &inside, RT_DIFFUSE_LAMBERTIAN, &rng, &att, &out));
+        CHECK(rt_material_scatter(&glass, &graze, &inside, RT_DIFFUSE_LAMBERTIAN, &smp, &att, &out));
         tir &= out.dir.y < 0 && fabs(out.dir.x - rt_v3_unit(graze.dir).x) < 1e-12;
     }
     CHECK(tir);
@@ -125,7 +134,7 @@ int main(void)
     rt_ray head = {rt_v3(0, 1, 0), rt_v3(0, -1, 0)};
     int through = 0;
     for (int i = 0; i < 10000; i++) {
-        rt_material_scatter(&glass, &head, &s, RT_DIFFUSE_LAMBERTIAN, &rng, &att, &out);
+        rt_material_scatter(&glass, &head, &s, RT_DIFFUSE_LAMBERTIAN, &smp, &att, &out);
         through += out.dir.y < 0;
     }
     CHECK_NEAR(through / 10000.0, 0.96, 0.01);
@@ -143,7 +152,7 @@ int main(void)
         m.ior = 1.0 + rt_rng_double(&rng);
         rt_ray r = {rt_v3(0, 1, 0), rt_v3(rt_rng_double(&rng) - 0.5, -1, rt_rng_double(&rng) - 0.5)};
         rt_diffuse model = (rt_diffuse)(i / 3 % 3);
-        if (rt_material_scatter(&m, &r, &s, model, &rng, &att, &out)) {
+        if (rt_material_scatter(&m, &r, &s, model, &smp, &att, &out)) {
             ok_att &= att.x <= 1 && att.y <= 1 && att.z <= 1 && att.x >= 0 && att.y >= 0 && att.z >= 0;
             if (m.kind == RT_MAT_LAMBERTIAN)
                 ok_dir &= rt_v3_dot(out.dir, s.normal) >= 0;

@@ -50,7 +50,7 @@ int main(int argc, char **argv)
     rt_accel *accel = NULL;
     rt_bvh *a = NULL, *b = NULL;
     rt_renderer r;
-    rt_job p = {W, W * 2 / 3, S, 50, 42, RT_DIFFUSE_LAMBERTIAN};
+    rt_job p = {W, W * 2 / 3, S, 50, 42, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0};
     if (rt_scene_build_final(&s, 42, 11) || rt_accel_new(&accel, &s, RT_ACCEL_BVH) || rt_bvh_build(&a, &s) ||
         ab_bvh_build(&b, &s) || rt_render_init(&r, &s, accel, &p)) {
         fprintf(stderr, "ab_bvh: cannot set up the scene\n");

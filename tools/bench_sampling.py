@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""bench_sampling.py [--build DIR] [--width W] [--height H] [--ref-spp N] [-j J]
+                     [--scenes a,b,c] [--rounds R] [--quick]
+
+Time to the same error (issue 28): per scene, renders with each sampler
+configuration (random = today's sampler, sobol, sobol + Russian roulette)
+at several sample counts, and prints samples, ray segments, render wall
+time, RMSE and 8x8-block RMSE against a reference, the mean's offset from
+the reference, and the time and the ray segments each configuration needs
+to reach the RMSE of the random sampler at 500 spp (the sample count
+interpolated on log-log between those rendered), as fractions of the
+random sampler's.
+
+Time: on a shared machine one render's wall time says little (here two
+cores shared with other jobs: the same render took 1x to 3x as long from
+one minute to the next). So each configuration's cost per sample is
+measured apart, as the fastest of R interleaved renders of the same job
+(64 spp), and time = samples x that cost; the quality renders' own wall
+times are printed as they came.
+
+The reference is rendered once with the random sampler (cached under
+BUILD/bench_sampling/) as two halves with seeds of their own: the scene is
+read from a file (--dump-scene), so the seed changes only the sampling, and
+the renders under test (seed 42) share no random numbers with it. The
+halves also measure the reference's own noise (E|A - B|^2 / 4 is the mean
+square error of their mean), which is taken off every MSE, so the RMSEs are
+those against the true image. Images are compared as linear floats (PFM).
+Not a test: timings depend on the machine and its load (two shared cores
+here: -j 2, and each render R times, the fastest kept).
+"""
+import argparse
+import math
+import os
+import re
+import struct
+import subprocess
+import sys
+from array import array
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CONFIGS = [  # name, options, sample counts
+    ("random", ["--sampler", "random"], [125, 250, 500, 1000]),
+    ("sobol", ["--sampler", "sobol", "--no-roulette"], [32, 64, 128, 256, 500]),
+    ("sobol+rr", ["--sampler", "sobol", "--roulette"], [32, 64, 128, 256, 500]),
+]
+TARGET = ("random", 500)
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    m = re.match(rb"PF\s+(\d+)\s+(\d+)\s+(\S+)\s", data)
+    if not m:
+        sys.exit(f"bench_sampling: {path} is not a colour PFM")
+    w, h, scale = int(m.group(1)), int(m.group(2)), float(m.group(3))
+    px = array("f")
+    px.frombytes(data[m.end():m.end() + w * h * 12])
+    if (scale < 0) != (sys.byteorder == "little"):
+        px.byteswap()
+    return w, h, px
+
+
+def run(binary, args):
+    out = subprocess.run([binary] + args, check=True, capture_output=True, text=True).stdout
+    wall = float(re.search(r"wall time: +([0-9.]+) s render", out).group(1))
+    segs = int(re.search(r"ray segments: +(\d+)", out).group(1))
+    return wall, segs
+
+
+def block_means(w, h, px, b=8):
+    bw, bh = w // b, h // b
+    out = [0.0] * (bw * bh * 3)
+    for y in range(bh * b):
+        row = (y // b) * bw
+        base = y * w * 3
+        for x in range(bw * b):
+            i, o = base + x * 3, (row + x // b) * 3
+            out[o] += px[i]
+            out[o + 1] += px[i + 1]
+            out[o + 2] += px[i + 2]
+    return [v / (b * b) for v in out]
+
+
+def mse(a, b):
+    return sum((x - y) * (x - y) for x, y in zip(a, b)) / len(a)
+
+
+def channel_means(px):
+    n = len(px) // 3
+    return [sum(px[c::3]) / n for c in range(3)]
+
+
+def time_to(points, target):
+    """Time at which MSE reaches target, interpolated on log-log between the
+    two renders that bracket it (or extrapolated from the last two, marked)."""
+    pts = sorted(points)  # (time, mse)
+    for (t0, m0), (t1, m1) in zip(pts, pts[1:]):
+        if m0 >= target >= m1 and m0 > 0 and m1 > 0 and m0 != m1:
+            f = math.log(m0 / target) / math.log(m0 / m1)
+            return math.exp(math.log(t0) + f * math.log(t1 / t0)), ""
+    (t0, m0), (t1, m1) = (pts[0], pts[1]) if target > pts[0][1] else (pts[-2], pts[-1])
+    if m0 <= 0 or m1 <= 0 or m0 == m1:
+        return float("nan"), "?"
+    f = math.log(m0 / target) / math.log(m0 / m1)
+    return math.exp(math.log(t0) + f * math.log(t1 / t0)), "~"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--width", type=int, default=300)
+    ap.add_argument("--height", type=int, default=200)
+    ap.add_argument("--ref-spp", type=int, default=4096)
+    ap.add_argument("-j", "--threads", type=int, default=2)
+    ap.add_argument("--scenes", default="final,materials,defocus")
+    ap.add_argument("--rounds", type=int, default=15)
+    ap.add_argument("--quick", action="store_true", help="150x100, 1024-spp reference, one round")
+    o = ap.parse_args()
+    if o.quick:
+        o.width, o.height, o.ref_spp, o.rounds = 150, 100, 1024, 3
+    binary = os.path.join(o.build, "rt-mpi")
+    cache = os.path.join(o.build, "bench_sampling")
+    os.makedirs(cache, exist_ok=True)
+    size = ["--width", str(o.width), "--height", str(o.height), "-j", str(o.threads), "-q", "--no-checkpoint"]
+    version = subprocess.run([binary, "--version"], check=True, capture_output=True, text=True).stdout.strip()
+    print(f"# {version}; {o.width}x{o.height}, -j {o.threads}, reference {o.ref_spp} spp (random sampler), "
+          f"cost per sample: fastest of {o.rounds} interleaved 64-spp renders")
+    summary = []
+    for scene in o.scenes.split(","):
+        sfile = os.path.join(cache, f"{scene}.json")
+        subprocess.run([binary, "--scene", scene, "--seed", "42", "--dump-scene", sfile], check=True)
+        halves = []
+        for k, seed in enumerate((1001, 1002)):
+            path = os.path.join(cache, f"ref_{scene}_{o.width}x{o.height}_{o.ref_spp}_{k}.pfm")
+            if not os.path.exists(path):
+                print(f"# rendering reference half {k + 1} of {scene} ({o.ref_spp // 2} spp) ...", file=sys.stderr)
+                run(binary, ["--scene-file", sfile, "--sampler", "random", "--seed", str(seed), "-s",
+                             str(o.ref_spp // 2), "-o", path + ".tmp.pfm"] + size)
+                os.replace(path + ".tmp.pfm", path)
+            halves.append(read_pfm(path)[2])
+        w, h = o.width, o.height
+        ref = array("f", [(a + b) * 0.5 for a, b in zip(*halves)])
+        ref_mse = mse(halves[0], halves[1]) / 4
+        ref_blocks = block_means(w, h, ref)
+        ref_block_mse = mse(block_means(w, h, halves[0]), block_means(w, h, halves[1])) / 4
+        ref_means = channel_means(ref)
+        print(f"\n## {scene}: reference's own RMSE {math.sqrt(ref_mse):.5f} (taken off below), "
+              f"channel means {ref_means[0]:.4f} {ref_means[1]:.4f} {ref_means[2]:.4f}")
+        print(f"{'config':<10} {'spp':>5} {'segments':>11} {'seg/sample':>10} {'time s':>8} {'RMSE':>8} "
+              f"{'8x8 RMSE':>9} {'mean - ref (r g b)':>26}")
+        points = {}
+        for name, opts, spps in CONFIGS:
+            for spp in spps:
+                out = os.path.join(cache, f"out_{scene}_{name}_{spp}.pfm")
+                best, segs = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(spp), "-o", out]
+                                 + opts + size)
+                img = read_pfm(out)[2]
+                e = max(mse(img, ref) - ref_mse, 1e-30)
+                eb = max(mse(block_means(w, h, img), ref_blocks) - ref_block_mse, 1e-30)
+                means = channel_means(img)
+                d = " ".join(f"{m - r:+.5f}" for m, r in zip(means, ref_means))
+                print(f"{name:<10} {spp:>5} {segs:>11} {segs / (w * h * spp):>10.3f} {best:>8.3f} "
+                      f"{math.sqrt(e):>8.5f} {math.sqrt(eb):>9.5f} {d:>26}")
+                points.setdefault(name, []).append((spp, e, segs))
+        # cost per sample: the fastest of R interleaved renders of each
+        cost = {name: float("inf") for name, _, _ in CONFIGS}
+        for _ in range(o.rounds):
+            for name, opts, _ in CONFIGS:
+                wall, _ = run(binary, ["--scene-file", sfile, "--seed", "7", "-s", "64", "-o",
+                                       os.path.join(cache, "cost.pfm")] + opts + size)
+                cost[name] = min(cost[name], wall / 64)
+        print("cost per sample (us, whole image / pixels): " +
+              ", ".join(f"{n} {cost[n] * 1e6 / (w * h):.3f} ({cost[n] / cost['random']:.3f}x)" for n in cost))
+        t_name, t_spp = TARGET
+        target = next(p[1] for p in points[t_name] if p[0] == t_spp)
+        t_segs = next(p[2] for p in points[t_name] if p[0] == t_spp)
+        t_time = t_spp * cost[t_name]
+        print(f"to the RMSE of {t_name} at {t_spp} spp ({math.sqrt(target):.5f}): ", end="")
+        parts = []
+        for name, _, _ in CONFIGS:
+            n, mark = time_to([(p[0], p[1]) for p in points[name]], target)
+            s, smark = time_to([(p[2], p[1]) for p in points[name]], target)
+            t = n * cost[name]
+            parts.append(f"{name} {mark}{n:.0f} spp, {mark}{t:.2f} s ({mark}{t / t_time:.2f}x time, "
+                         f"{smark}{s / t_segs:.2f}x segments)")
+            summary.append((scene, name, t / t_time, s / t_segs, mark))
+        print(", ".join(parts))
+    print("\n## summary: time and ray segments to the RMSE of random at 500 spp, relative to random")
+    for scene, name, rt, rs, mark in summary:
+        print(f"{scene:<10} {name:<10} {mark}{rt:.2f}x time  {mark}{rs:.2f}x segments")
+
+
+if __name__ == "__main__":
+    main()
