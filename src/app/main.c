@@ -81,10 +81,15 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
     if (o->bit_depth != 8 || o->ppm_ascii)
         snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
                  o->ppm_ascii ? " --ppm-ascii" : "");
+    /* The BVH's box-test variants find the same hits, and each node may pick
+     * its own (RT_ACCEL): the file names the BVH, not rank 0's variant. */
+    rt_accel_kind accel = (rt_accel_kind)o->accel;
+    if (accel == RT_ACCEL_BVH_SSE || accel == RT_ACCEL_BVH_SCALAR)
+        accel = RT_ACCEL_BVH;
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
              " --diffuse %s --accel %s%s",
              scene, grid, o->width, o->height, o->samples, o->max_depth, o->seed,
-             rt_diffuse_name((rt_diffuse)o->diffuse), rt_accel_name((rt_accel_kind)o->accel), format);
+             rt_diffuse_name((rt_diffuse)o->diffuse), rt_accel_name(accel), format);
 }
 
 static void write_preview(void *arg, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
