@@ -32,8 +32,10 @@ note() { printf -- '---- [%5.1fs] %s\n' "$(secs "$T0" "$(now)")" "$*"; }
 now() { date +%s.%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", b - a}'; } # from to
 
-if ! why=$(cluster_check) || ! command -v mpirun >/dev/null 2>&1; then
-    why=${why:-mpirun missing}
+if ! why=$(cluster_check) || ! command -v mpirun >/dev/null 2>&1 ||
+    { [[ $CASE == slurm ]] && ! PATH=$PATH:/usr/sbin command -v slurmctld >/dev/null 2>&1; }; then
+    [[ -z $why ]] && ! command -v mpirun >/dev/null 2>&1 && why="mpirun missing"
+    why=${why:-"Slurm (slurm-wlm) not installed"}
     [[ ${RT_REQUIRE_ALL:-0} == 1 ]] && { echo "FAIL: cannot run here: $why"; exit 1; }
     echo "SKIP: $why"
     exit 77
@@ -57,7 +59,7 @@ hostfile() { # name "n1 slots=1" ... -> path
 }
 # How many ranks of a job on this hostfile each host gets: "n1:1 n2:3 n3:2".
 placement() { # hostfile np
-    cmpirun 60 "$1" -np "$2" hostname 2>&1 | sort | uniq -c | awk '{printf "%s%s:%s", (NR > 1 ? " " : ""), $2, $1}'
+    cmpirun 60 "$1" -np "$2" hostname | sort | uniq -c | awk '{printf "%s%s:%s", (NR > 1 ? " " : ""), $2, $1}'
 }
 # Bytes that crossed HOST's eth0 in both directions so far.
 eth_bytes() {
