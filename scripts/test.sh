@@ -11,6 +11,9 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # package, dpkg-dev (dpkg-shlibdeps) for cpack, groff for the man page.
 export RT_EXTRA_PACKAGES="${RT_EXTRA_PACKAGES:-} slurm-wlm munge valgrind python3 python3-matplotlib"
 RT_EXTRA_PACKAGES+=" podman runc debootstrap uidmap dpkg-dev groff-base"
+# The cluster label: namespaces, veth, bridge and tc (iproute2), nsenter and
+# unshare (util-linux), python3 for the bad-link emulator.
+RT_EXTRA_PACKAGES+=" iproute2 util-linux"
 "$ROOT/scripts/setup.sh" "$ROOT/build" -DBUILD_TESTING=ON >/dev/null
 # Every test must run here: a test that would skip (no permission, a
 # missing tool) fails instead, so CI cannot pass on skipped checks.
