@@ -36,6 +36,9 @@ void rt_cli_defaults(rt_options *o)
     o->job.diffuse = RT_DIFFUSE_LAMBERTIAN;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
+    o->lease = 5;
+    o->flush_interval = 1;
+    o->flush_mb = 64;
     o->passes = 1;
     o->bit_depth = 8;
 }
@@ -80,6 +83,11 @@ const char *rt_cli_usage(void)
            "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
            "      --stats <FILE.json>  Machine-readable run summary\n"
            "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
+           "      --lease <SECONDS>    A rank rank 0 has not heard from for this long is lost and its\n"
+           "                           units go to the others [default: 5]\n"
+           "      --flush-interval <SECONDS>  A rank sends its sums at least this often (0: only when\n"
+           "                           rank 0 asks or it holds --flush-mb) [default: 1]\n"
+           "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: 64]\n"
            "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
            "                           image, rewriting a preview after each [default: 1]\n"
            "      --preview <FILE>     Preview image of --passes [default: the output]\n"
@@ -162,6 +170,9 @@ static const optdef OPTS[] = {
     {"trace", 0, K_PATH, F(trace), 0, 0},
     {"stats", 0, K_PATH, F(stats), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
+    {"lease", 0, K_U32, F(lease), 1, 86400},
+    {"flush-interval", 0, K_U32, F(flush_interval), 0, 86400},
+    {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},

@@ -55,14 +55,20 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     fprintf(fp, "  \"render_seconds\": %.6f, \"total_seconds\": %.6f,\n", s->wall, s->total_wall);
     fprintf(fp, "  \"ray_segments\": %" PRIu64 ", \"segments_per_second\": %.1f,\n", s->segments,
             s->wall > 0 ? (double)s->segments / s->wall : 0.0);
+    fprintf(fp,
+            "  \"rank0_messages_in\": %" PRIu64 ", \"rank0_bytes_in\": %" PRIu64 ", \"rank0_serve_cpu_seconds\": %.6f, "
+            "\"final_combine_seconds\": %.6f, \"lost_ranks\": %d,\n",
+            s->farm->msgs_in, s->farm->bytes_in, s->farm->serve_cpu, s->farm->final_combine, s->farm->lost);
     fprintf(fp, "  \"per_rank\": [\n");
     for (int r = 0; r < s->ranks; r++) {
         const rt_rank_stats *x = &s->per_rank[r];
         double idle = s->wall - x->busy - x->comm;
         fprintf(fp,
                 "    {\"rank\": %d, \"units\": %.0f, \"rows\": %.3f, \"segments\": %.0f, \"busy_seconds\": %.6f, "
-                "\"wait_seconds\": %.6f, \"comm_seconds\": %.6f, \"idle_seconds\": %.6f, \"peak_rss_mb\": %.1f}%s\n",
+                "\"wait_seconds\": %.6f, \"comm_seconds\": %.6f, \"idle_seconds\": %.6f, \"peak_rss_mb\": %.1f, "
+                "\"held_mb\": %.3f, \"lost\": %s}%s\n",
                 r, x->units, x->rows, x->segments, x->busy, x->wait, x->comm, idle < 0 ? 0 : idle, x->maxrss_mb,
+                x->held_mb, x->lost ? "true" : "false",
                 r + 1 < s->ranks ? "," : "");
     }
     fprintf(fp, "  ]\n}\n");

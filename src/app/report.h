@@ -20,6 +20,7 @@ typedef struct rt_run_summary {
     double wall, total_wall;
     uint64_t segments;
     const rt_rank_stats *per_rank;
+    const rt_farm_result *farm; /* rank 0's serving, lost ranks */
 } rt_run_summary;
 
 int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ranks);
