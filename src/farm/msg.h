@@ -7,8 +7,9 @@
  *     REPORT   int64 x 4 per unit done: id, segments, start and end ns
  *              (worker clock since the common start); also its request
  *              for as many new units
- *     SUMS     int64: y0, y1, s0, s1, n, n unit ids, then the sums of rows
- *              [y0, y1) over samples [s0, s1): a piece (held.h)
+ *     SUMS     int64, one or more pieces (held.h), each: y0, y1, s0, s1,
+ *              n, n unit ids, then the sums of rows [y0, y1) over samples
+ *              [s0, s1); each row at most once in a message
  *     BEAT     empty: alive, nothing else to say (a lease's worth of quiet)
  *     STOPPED  empty: stopped, every sum sent
  *     BYE      double x 4: wait s, comm s, peak MB, most MB held

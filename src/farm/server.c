@@ -143,10 +143,10 @@ static void on_report(server *s, int r, const int64_t *m, int count)
     serve_peer(s, r);
 }
 
-/* A piece: rows [y0, y1), samples [s0, s1), its units, their sums. Every
- * unit must be one r holds, of those rows, and together they must cover
- * exactly [s0, s1). */
-static void on_sums(server *s, int r, const int64_t *m, int count)
+/* One piece at m (count int64 left): rows [y0, y1), samples [s0, s1), its
+ * units, their sums. Every unit must be one r holds, of those rows, and
+ * together they must cover exactly [s0, s1). Returns the int64 it took. */
+static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
 {
     rt_assembly *a = &s->R->as;
     const rt_sched *sc = &a->sched;
@@ -155,7 +155,8 @@ static void on_sums(server *s, int r, const int64_t *m, int count)
     const size_t n_ids = ok ? (size_t)m[4] : 0;
     const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[2] : 0,
                            ok ? (uint32_t)m[3] : 0};
-    ok = ok && (size_t)count == RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->width * 3;
+    const size_t len = RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->width * 3;
+    ok = ok && count >= len;
     uint64_t covered = 0;
     for (size_t k = 0; ok && k < n_ids; k++) {
         const rt_unit *u = m[RT_MSG_PIECE + k] >= 0 && m[RT_MSG_PIECE + k] <= UINT32_MAX
@@ -176,6 +177,14 @@ static void on_sums(server *s, int r, const int64_t *m, int count)
     if (st && !s->R->error)
         s->R->error = st;
     pthread_mutex_unlock(&s->R->mu);
+    return len;
+}
+
+/* A flush: one or more pieces. */
+static void on_sums(server *s, int r, const int64_t *m, int count)
+{
+    for (size_t at = 0; at < (size_t)count;)
+        at += on_piece(s, r, m + at, (size_t)count - at);
 }
 
 static void on_bye(server *s, int r, const double *m, int count)

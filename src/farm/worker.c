@@ -154,17 +154,27 @@ static void send_reports(worker *w)
     free(r);
 }
 
-static void send_piece(worker *w, const rt_piece *p)
+/* One message for the pieces of a store: each row at most once. */
+static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
 {
-    size_t sums = (size_t)(p->y1 - p->y0) * w->held.width * 3, n = RT_MSG_PIECE + p->n_ids + sums;
+    if (!n_pieces)
+        return;
+    const size_t row = (size_t)w->held.width * 3;
+    size_t n = 0;
+    for (size_t i = 0; i < n_pieces; i++)
+        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * row;
     if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
         rt_farm_fail(w->f, 1, "out of memory for the sums to send");
     int64_t *m = w->msg;
-    m[0] = p->y0, m[1] = p->y1, m[2] = p->s0, m[3] = p->s1, m[4] = (int64_t)p->n_ids;
-    for (size_t k = 0; k < p->n_ids; k++)
-        m[RT_MSG_PIECE + k] = p->ids[k];
-    memcpy(m + RT_MSG_PIECE + p->n_ids, p->sums, sums * sizeof *p->sums);
-    send_or_fail(w, m, (int)n, MPI_INT64_T, RT_TAG_SUMS);
+    for (size_t i = 0; i < n_pieces; i++) {
+        size_t sums = (size_t)(p[i].y1 - p[i].y0) * row;
+        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].s0, m[3] = p[i].s1, m[4] = (int64_t)p[i].n_ids;
+        for (size_t k = 0; k < p[i].n_ids; k++)
+            m[RT_MSG_PIECE + k] = p[i].ids[k];
+        memcpy(m + RT_MSG_PIECE + p[i].n_ids, p[i].sums, sums * sizeof *p[i].sums);
+        m += RT_MSG_PIECE + p[i].n_ids + sums;
+    }
+    send_or_fail(w, w->msg, (int)n, MPI_INT64_T, RT_TAG_SUMS);
 }
 
 /* Sends every sum held: the sealed stores first, then the current one.
@@ -181,13 +191,11 @@ static void flush(worker *w)
     w->flush_wanted = 0;
     pthread_mutex_unlock(&w->mu);
     for (size_t i = 0; i < n_sealed; i++) {
-        for (size_t k = 0; k < sealed[i].n; k++)
-            send_piece(w, &sealed[i].pieces[k]);
+        send_pieces(w, sealed[i].pieces, sealed[i].n);
         rt_held_free(&sealed[i]);
     }
     free(sealed);
-    for (size_t k = 0; k < n_cur; k++)
-        send_piece(w, &cur[k]);
+    send_pieces(w, cur, n_cur);
     rt_held_free_pieces(cur, n_cur);
     w->last_flush = rt_now();
 }
