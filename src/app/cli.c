@@ -39,6 +39,9 @@ void rt_cli_defaults(rt_options *o)
     o->job.sampler = RT_SAMPLER_SOBOL;
     o->checkpoint_interval = 60;
     o->prefetch = 2;
+    o->lease = 5;
+    o->flush_interval = 1;
+    o->flush_mb = 64;
     o->passes = 1;
     o->bit_depth = 8;
 }
@@ -92,6 +95,11 @@ const char *rt_cli_usage(void)
            "  -j, --threads <THREADS>  Threads per rank (0 = OMP_NUM_THREADS if set, else all\n"
            "                           cores available to the rank) [default: 0]\n"
            "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
+           "      --lease <SECONDS>    A rank that rank 0 has not heard from for this long is lost: its\n"
+           "                           units go to the others [default: 5]\n"
+           "      --flush-interval <SECONDS>  A rank sends its sums at least this often (0: only when\n"
+           "                           rank 0 asks or it holds --flush-mb) [default: 1]\n"
+           "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: 64]\n"
            "\n"
            "Checkpoint:\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
@@ -222,6 +230,9 @@ static const optdef OPTS[] = {
     {"trace", 0, K_PATH, F(trace), 0, 0},
     {"stats", 0, K_PATH, F(stats), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
+    {"lease", 0, K_U32, F(lease), 1, 86400},
+    {"flush-interval", 0, K_U32, F(flush_interval), 0, 86400},
+    {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},

@@ -243,6 +243,13 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     add_u64(doc, "ray_segments", s->segments, &ok);
     add_num(doc, "segments_per_second", s->wall > 0 ? (double)s->segments / s->wall : 0.0, &ok);
     add_origin(doc, &s->origin, &ok);
+    if (s->farm) {
+        add_u64(doc, "rank0_messages_in", s->farm->msgs_in, &ok);
+        add_u64(doc, "rank0_bytes_in", s->farm->bytes_in, &ok);
+        add_num(doc, "rank0_serve_cpu_seconds", s->farm->serve_cpu, &ok);
+        add_num(doc, "final_combine_seconds", s->farm->final_combine, &ok);
+        add_num(doc, "lost_ranks", s->farm->lost, &ok);
+    }
     cJSON *ranks = add(doc, "per_rank", cJSON_CreateArray(), &ok);
     for (int r = 0; ranks && r < s->ranks; r++) {
         const rt_rank_stats *x = &s->per_rank[r];
@@ -259,6 +266,8 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
         add_num(e, "comm_seconds", x->comm, &ok);
         add_num(e, "idle_seconds", idle < 0 ? 0 : idle, &ok);
         add_num(e, "peak_rss_mb", x->maxrss_mb, &ok);
+        add_num(e, "held_mb", x->held_mb, &ok);
+        add(e, "lost", cJSON_CreateBool(x->lost), &ok);
     }
     return write_doc(path, doc, ok, 1);
 }

@@ -36,6 +36,7 @@ typedef struct rt_run_summary {
     uint64_t segments;
     const rt_rank_stats *per_rank;
     rt_report_origin origin;
+    const rt_farm_result *farm; /* rank 0's serving, lost ranks */
 } rt_run_summary;
 
 /* RT_EUNSUPPORTED in a build without cJSON (the option parser refuses

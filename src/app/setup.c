@@ -150,6 +150,9 @@ void rt_run_job(rt_run *run)
                                    .units_per_rank = 8, .min_samples = 1, .passes = o->passes};
     job->threads = run->threads;
     job->prefetch = (int)o->prefetch;
+    job->lease = o->lease;
+    job->flush_interval = o->flush_interval ? o->flush_interval : 1e30;
+    job->flush_bytes = (size_t)o->flush_mb << 20;
     job->empty_units = o->empty_units;
     job->root_serves_only = o->serve_only;
     job->trace = o->trace != NULL;

@@ -122,17 +122,30 @@ static void print_summary(const rt_run *run, uint64_t hash)
     printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - run->t_start);
     printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res->segments,
            res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
-    double lo = res->ranks[0].maxrss_mb, hi = lo;
+    double lo = res->ranks[0].maxrss_mb, hi = lo, held = 0;
     for (int i = 1; i < ranks; i++) {
-        lo = res->ranks[i].maxrss_mb < lo ? res->ranks[i].maxrss_mb : lo;
-        hi = res->ranks[i].maxrss_mb > hi ? res->ranks[i].maxrss_mb : hi;
+        const rt_rank_stats *r = &res->ranks[i];
+        if (r->lost)
+            continue;
+        lo = r->maxrss_mb < lo ? r->maxrss_mb : lo;
+        hi = r->maxrss_mb > hi ? r->maxrss_mb : hi;
+        held = r->held_mb > held ? r->held_mb : held;
     }
-    printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank\n", res->ranks[0].maxrss_mb, lo, hi);
+    printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank", res->ranks[0].maxrss_mb, lo, hi);
+    if (ranks > 1)
+        printf(", at most %.1f MB of sums held by a rank", held);
+    printf("\n");
+    if (ranks > 1)
+        printf("rank 0 served: %" PRIu64 " messages, %.1f MB in, %.3f s CPU; last sums in %.3f s after the last unit\n",
+               res->msgs_in, (double)res->bytes_in / 1e6, res->serve_cpu, res->final_combine);
+    if (res->lost)
+        printf("lost ranks:    %d (their units were rendered again by the others)\n", res->lost);
     for (int i = 0; i < ranks && ranks > 1; i++) {
         const rt_rank_stats *r = &res->ranks[i];
         printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
-               "%.3f M segments/s\n",
-               i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0);
+               "%.3f M segments/s%s\n",
+               i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0,
+               r->lost ? " (lost: its units went to the others)" : "");
     }
     printf("image hash:    %016" PRIx64 "\n", hash);
     fflush(stdout);
@@ -150,7 +163,7 @@ static void write_reports(const rt_run *run, uint64_t hash)
                                job_id && *job_id ? job_id : NULL};
     rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
                           run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
-                          rt_now() - run->t_start, res->segments, res->ranks, origin};
+                          rt_now() - run->t_start, res->segments, res->ranks, origin, res};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));

@@ -130,7 +130,6 @@ int rt_sched_can_commit(const rt_sched *s, const rt_unit *u) { return s->committ
 uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u)
 {
     uint32_t completed = 0;
-    s->units_done++;
     for (uint32_t y = u->y0; y < u->y1; y++) {
         s->committed[y] = u->s1;
         if (u->s1 == s->samples)

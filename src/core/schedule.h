@@ -44,7 +44,6 @@ typedef struct rt_sched {
     uint32_t *committed; /* per row: samples [0, committed) are summed */
     uint32_t height, samples, passes;
     uint32_t rows_done;  /* rows with every sample committed */
-    uint32_t units_done;
 } rt_sched;
 
 /* Plans units for every sample not already committed (committed may be NULL:
@@ -57,7 +56,8 @@ int rt_sched_next(rt_sched *s, rt_unit *u);
 const rt_unit *rt_sched_unit(const rt_sched *s, uint32_t id);
 /* 1 when u's sums can be added now (its rows have committed exactly s0). */
 int rt_sched_can_commit(const rt_sched *s, const rt_unit *u);
-/* Records u as added; returns how many rows it completed. */
+/* Records u (or any block of rows and samples) as added; returns how
+ * many rows it completed. */
 uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u);
 /* Samples committed in every row (the image is complete up to this). */
 uint32_t rt_sched_min_committed(const rt_sched *s);

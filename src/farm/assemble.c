@@ -8,8 +8,9 @@
 #include "status.h"
 
 struct rt_pending {
-    rt_unit unit;
+    rt_unit unit; /* the block's rows and samples */
     int64_t *sums;
+    uint32_t n_units;
 };
 
 int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p, const uint32_t *committed,
@@ -44,7 +45,7 @@ void rt_assembly_free(rt_assembly *a)
 
 size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * a->width * 3; }
 
-int rt_assembly_complete(const rt_assembly *a) { return a->sched.units_done == a->sched.n_units; }
+int rt_assembly_complete(const rt_assembly *a) { return a->units_in == a->sched.n_units; }
 
 void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, uint64_t segs, double start,
                        double end)
@@ -57,9 +58,10 @@ void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, ui
 
 static size_t unit_len(const rt_assembly *a, const rt_unit *u) { return (size_t)(u->y1 - u->y0) * a->width * 3; }
 
-static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums)
+static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t n_units)
 {
     size_t n = unit_len(a, u);
+    a->units_in += n_units;
     int64_t *dst = a->acc + (size_t)u->y0 * a->width * 3;
     for (size_t i = 0; i < n; i++)
         dst[i] += sums[i];
@@ -82,7 +84,7 @@ static void commit_pending(rt_assembly *a)
 {
     for (size_t i = 0; i < a->n_pending;) {
         if (rt_sched_can_commit(&a->sched, &a->pending[i].unit)) {
-            commit(a, &a->pending[i].unit, a->pending[i].sums);
+            commit(a, &a->pending[i].unit, a->pending[i].sums, a->pending[i].n_units);
             free(a->pending[i].sums);
             a->pending[i] = a->pending[--a->n_pending];
             i = 0;
@@ -92,7 +94,7 @@ static void commit_pending(rt_assembly *a)
     }
 }
 
-static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums)
+static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t n_units)
 {
     size_t n = unit_len(a, u);
     int64_t *copy = malloc(n * sizeof *copy);
@@ -101,26 +103,32 @@ static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums)
         return RT_ENOMEM;
     }
     memcpy(copy, sums, n * sizeof *copy);
-    a->pending[a->n_pending].unit = *u;
-    a->pending[a->n_pending++].sums = copy;
+    a->pending[a->n_pending++] = (struct rt_pending){*u, copy, n_units};
     return RT_OK;
 }
 
-int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
-                    double end)
+void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t segs, double start, double end)
 {
-    int st = RT_OK;
-    if (rt_sched_can_commit(&a->sched, u)) {
-        commit(a, u, sums);
-        commit_pending(a);
-    } else {
-        st = keep(a, u, sums);
-    }
     a->segments += segs;
     if (rank >= 0 && rank < a->ranks)
         rt_rank_stats_add(&a->stats[rank], u, a->sched.samples, segs, start, end);
     /* Out of memory for the trace: it misses events, the render goes on. */
     if (a->tracing && rt_array_reserve((void **)&a->trace, &a->cap_trace, a->n_trace + 1, sizeof *a->trace) == RT_OK)
         a->trace[a->n_trace++] = (rt_trace_event){rank, *u, start, end};
-    return st;
+}
+
+int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, uint32_t n_units)
+{
+    if (!rt_sched_can_commit(&a->sched, block))
+        return keep(a, block, sums, n_units);
+    commit(a, block, sums, n_units);
+    commit_pending(a);
+    return RT_OK;
+}
+
+int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
+                    double end)
+{
+    rt_assembly_account(a, rank, u, segs, start, end);
+    return rt_assembly_sums(a, u, sums, 1);
 }

@@ -20,6 +20,7 @@ typedef struct rt_assembly {
     struct rt_pending *pending; /* units that arrived before their predecessors */
     size_t n_pending, cap_pending;
     uint64_t segments;
+    uint32_t units_in; /* units whose sums are in the image */
     rt_rank_stats *stats; /* one per rank */
     int ranks;
     rt_trace_event *trace; /* one per unit when tracing */
@@ -36,10 +37,17 @@ int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p
                      int64_t *acc, int ranks, int tracing);
 void rt_assembly_free(rt_assembly *a);
 
-/* Unit u's sums (laid out as rt_render_rows' acc), rendered by rank from
- * start to end (seconds) in segs ray segments. Adds them now if they can be
- * committed, with every waiting unit they unblock, else keeps a copy.
- * RT_ENOMEM when no copy can be kept (the sums are then lost). */
+/* Unit u, rendered by rank from start to end (seconds) in segs ray
+ * segments: into the rank's account and the trace. */
+void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t segs, double start, double end);
+
+/* The sums of a block of rows and one contiguous sample range (a unit, or
+ * a piece of several units a worker held, held.h), holding n_units units:
+ * added now if they can be committed, with every waiting block they
+ * unblock, else a copy waits. RT_ENOMEM when no copy can be kept. */
+int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, uint32_t n_units);
+
+/* Both, for one unit (rank 0's own units). */
 int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
                     double end);
 

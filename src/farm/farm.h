@@ -34,6 +34,7 @@ typedef struct rt_farm {
     int mask_index; /* this rank's place among them */
     int omp_bound;  /* OpenMP binds threads to places (OMP_PROC_BIND): cores counts places */
     int mpi;        /* 1 when MPI is initialised */
+    int lost;       /* rank 0: ranks lost in the render (rt_farm_render sets it) */
 } rt_farm;
 
 typedef struct rt_rank_stats {
@@ -42,6 +43,8 @@ typedef struct rt_rank_stats {
     double wait;      /* seconds with nothing to render (waiting for rank 0) */
     double comm;      /* seconds in MPI calls and message handling */
     double maxrss_mb; /* peak resident memory */
+    double held_mb;   /* most sums held at once, not yet sent to rank 0 */
+    int lost;         /* the rank died or stopped answering; its units went to others */
 } rt_rank_stats;
 
 typedef struct rt_trace_event {
@@ -78,6 +81,15 @@ typedef struct rt_farm_job {
     int prefetch;         /* units a worker keeps in flight */
     int empty_units;      /* benchmark of the farm itself: units are not rendered */
     int root_serves_only; /* rank 0 serves and does not render (when size > 1) */
+    /* Workers keep their sums and send them combined (held.h): at the
+     * latest every flush_interval seconds, when they hold flush_bytes, when
+     * rank 0 asks (progressive passes, checkpoints, the end) and on a
+     * signal. A worker that rank 0 has not heard from for `lease` seconds
+     * is lost: its units go to the others (0: the defaults, 1 s, 64 MiB,
+     * 5 s). */
+    double flush_interval;
+    size_t flush_bytes;
+    double lease;
     /* rank 0 only: */
     int64_t *acc;              /* width*height*3 sums, preloaded on resume */
     const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
@@ -92,9 +104,18 @@ typedef struct rt_farm_result {
     rt_trace_event *trace;
     size_t n_trace;
     double wall; /* seconds in rt_farm_render */
+    /* rank 0 only: */
+    int lost;               /* ranks lost during the render */
+    uint64_t msgs_in;       /* messages rank 0 received */
+    uint64_t bytes_in;      /* bytes rank 0 received */
+    double serve_cpu;       /* CPU seconds of rank 0's main thread (the server) */
+    double final_combine;   /* seconds from the last unit rendered to the last sums in */
 } rt_farm_result;
 
 int rt_farm_init(rt_farm *f, int *argc, char ***argv);
+/* Ends MPI. After a render that lost ranks (rt_farm_result.lost) MPI
+ * cannot finalize (it would wait for the dead): rank 0 ends the job with
+ * MPI_Abort and status 0 instead, once the image is written. */
 void rt_farm_finalize(rt_farm *f);
 /* The MPI library this program was linked with (MPI_Get_library_version,
  * first line), or "none" in a build without MPI. Needs no MPI_Init. */
@@ -129,6 +150,6 @@ const volatile sig_atomic_t *rt_farm_stop_flag(void);
 /* Renders the whole image. Collective. On SIGTERM, SIGINT or SIGUSR1, rank 0
  * saves (hooks.save), calls hooks.stopped and the job ends with
  * RT_EXIT_INTERRUPTED (this call does not return then). */
-int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
+int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
 
 #endif

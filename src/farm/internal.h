@@ -5,10 +5,14 @@
 #include <pthread.h>
 
 #include "assemble.h"
+#include "held.h"
+#include "ledger.h"
 #include "farm.h"
 
 /* start.c: the signal handlers. */
 void rt_farm_signals_install(void);
+/* Stops the render as a signal would (rank 0 asked this worker to stop). */
+void rt_farm_stop_raise(int sig);
 #define RT_FARM_STOPPED() (*rt_farm_stop_flag())
 
 /* place.c: this rank's CPUs (before MPI), then which ranks of its node
@@ -34,26 +38,27 @@ typedef struct rt_root {
     pthread_mutex_t mu;
     const rt_farm_job *job;
     rt_assembly as;
+    rt_ledger led;
     double t0;        /* the render's time origin */
     double last_save; /* when hooks.save last ran */
+    uint32_t previewed; /* the last pass hooks.pass was called for */
     int serial;       /* no server: the render loop calls the hooks itself */
     int error;        /* a status: rendering on rank 0 failed */
 } rt_root;
 
-/* The next unit for anyone (0 once all are out, or stopping). */
-int rt_root_take(rt_root *R, rt_unit *u);
-/* A finished unit from rank: into the image in commit order. */
-void rt_root_add(rt_root *R, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
-                 double end);
+/* The next unit for rank (0 when none is left to hand out, or stopping). */
+int rt_root_take(rt_root *R, int rank, rt_unit *u);
+/* Main thread: saves now (hooks.save); whether it did. */
+int rt_root_save_now(rt_root *R);
 /* Main thread: progress, previews and periodic saves, as due. */
 void rt_root_tick(rt_root *R);
 
 #ifdef RT_HAVE_MPI
 /* server.c: rank 0's main thread hands out units and takes in results
  * until every rank is done (returns early on a signal). */
-void rt_farm_serve(const rt_farm *f, rt_root *R);
+void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res);
 /* worker.c: a rank other than 0 renders the units rank 0 sends. */
-void rt_farm_work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
+void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
 #endif
 
 #endif

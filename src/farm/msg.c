@@ -24,15 +24,4 @@ int rt_msg_probe(int source, int *flag, MPI_Status *status)
     return rc;
 }
 
-void rt_msg_send_unit(const rt_farm *f, int dest, const rt_unit *u)
-{
-    uint32_t msg[5] = {u->id, u->y0, u->y1, u->s0, u->s1};
-    if (MPI_Send(msg, 5, MPI_UINT32_T, dest, RT_TAG_UNIT, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "MPI_Send of a work unit to rank %d failed", dest);
-}
-
-void rt_msg_send_done(const rt_farm *f, int dest)
-{
-    if (MPI_Send(NULL, 0, MPI_UINT32_T, dest, RT_TAG_DONE, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "MPI_Send to rank %d failed", dest);
-}
+int rt_msg_signal(int dest, int tag) { return MPI_Send(NULL, 0, MPI_BYTE, dest, tag, MPI_COMM_WORLD); }

@@ -20,22 +20,12 @@
 #include "mem.h"
 #include "status.h"
 
-int rt_root_take(rt_root *R, rt_unit *u)
+int rt_root_take(rt_root *R, int rank, rt_unit *u)
 {
     pthread_mutex_lock(&R->mu);
-    int ok = !RT_FARM_STOPPED() && !R->error && rt_sched_next(&R->as.sched, u);
+    int ok = !RT_FARM_STOPPED() && !R->error && rt_ledger_take(&R->led, &R->as.sched, rank, u);
     pthread_mutex_unlock(&R->mu);
     return ok;
-}
-
-void rt_root_add(rt_root *R, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
-                 double end)
-{
-    pthread_mutex_lock(&R->mu);
-    int st = rt_assembly_add(&R->as, rank, u, sums, segs, start, end);
-    if (st && !R->error)
-        R->error = st;
-    pthread_mutex_unlock(&R->mu);
 }
 
 /* A consistent copy of the committed counts and sums, taken under the lock
@@ -69,12 +59,17 @@ static void release(rt_root *R, uint32_t *committed, int64_t *acc)
 }
 
 /* After each progressive pass but the last (the final image, which the
- * caller writes): a consistent image for hooks.pass. */
+ * caller writes): a consistent image for hooks.pass. When the last passes
+ * complete together (units of later passes came in before an early one),
+ * the last but one is still shown: a progressive run always shows one. */
 static void pass_hook(rt_root *R, uint32_t pass)
 {
     const rt_farm_hooks *h = &R->job->hooks;
-    if (!h->pass || pass >= R->as.sched.passes)
+    if (pass >= R->as.sched.passes)
+        pass = R->as.sched.passes - 1;
+    if (!h->pass || pass == 0 || pass <= R->previewed)
         return;
+    R->previewed = pass;
     uint32_t *committed;
     int64_t *acc;
     if (snapshot(R, 0, &committed, &acc) != RT_OK)
@@ -131,6 +126,8 @@ void rt_root_tick(rt_root *R)
     save_hook(R, 0);
 }
 
+int rt_root_save_now(rt_root *R) { return save_hook(R, 1); }
+
 /* A signal arrived: save what is complete and end the job. */
 static void interrupted(const rt_farm *f, rt_root *R)
 {
@@ -154,7 +151,7 @@ typedef struct local {
 static int local_take(void *ctx, rt_unit *u)
 {
     local *L = ctx;
-    if (!rt_root_take(L->R, u))
+    if (!rt_root_take(L->R, 0, u))
         return 0;
     L->taken[u->id] = rt_now() - L->R->t0;
     return 1;
@@ -163,8 +160,16 @@ static int local_take(void *ctx, rt_unit *u)
 static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     local *L = ctx;
-    double end = rt_now() - L->R->t0;
-    rt_root_add(L->R, 0, u, sums, segs, rt_farm_unit_start(L->taken[u->id], &L->last, end), end);
+    rt_root *R = L->R;
+    double end = rt_now() - R->t0;
+    double start = rt_farm_unit_start(L->taken[u->id], &L->last, end);
+    pthread_mutex_lock(&R->mu);
+    int st = rt_ledger_done(&R->led, 0, u->id) && rt_ledger_in(&R->led, 0, u->id)
+                 ? rt_assembly_add(&R->as, 0, u, sums, segs, start, end)
+                 : RT_EINVAL;
+    if (st && !R->error)
+        R->error = st;
+    pthread_mutex_unlock(&R->mu);
     if (L->R->serial)
         rt_root_tick(L->R);
 }
@@ -184,31 +189,7 @@ static void *local_loop(void *arg)
     return NULL;
 }
 
-/* Workers report their own wait and communication time and peak memory. */
-static void gather_stats(const rt_farm *f, rt_rank_stats *all, const rt_rank_stats *mine)
-{
-#ifdef RT_HAVE_MPI
-    if (!f->mpi || f->size == 1)
-        return;
-    double me3[3] = {mine->wait, mine->comm, mine->maxrss_mb};
-    double *got = f->rank == 0 ? malloc((size_t)f->size * 3 * sizeof *got) : NULL;
-    if (f->rank == 0 && !got)
-        rt_farm_fail(f, 1, "out of memory");
-    MPI_Gather(me3, 3, MPI_DOUBLE, got, 3, MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    for (int i = 1; f->rank == 0 && i < f->size; i++) {
-        all[i].wait = got[3 * i];
-        all[i].comm = got[3 * i + 1];
-        all[i].maxrss_mb = got[3 * i + 2];
-    }
-    free(got);
-#else
-    (void)f;
-    (void)all;
-    (void)mine;
-#endif
-}
-
-static void run_root(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res, double t0)
+static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, double t0)
 {
     rt_root R;
     memset(&R, 0, sizeof R);
@@ -217,6 +198,8 @@ static void run_root(const rt_farm *f, const rt_farm_job *job, rt_farm_result *r
     R.t0 = R.last_save = t0;
     int st = rt_assembly_init(&R.as, &job->renderer->job, &job->sched, job->committed, job->acc, f->size,
                               job->trace);
+    if (!st)
+        st = rt_ledger_init(&R.led, &R.as.sched, f->size);
     if (st)
         rt_farm_fail(f, 1, "cannot plan the work units: %s", rt_status_str(st));
     res->units = R.as.sched.n_units;
@@ -230,7 +213,7 @@ static void run_root(const rt_farm *f, const rt_farm_job *job, rt_farm_result *r
         int render = !job->root_serves_only;
         if (render && pthread_create(&th, NULL, local_loop, &R) != 0)
             rt_farm_fail(f, 1, "cannot start the render thread on rank 0");
-        rt_farm_serve(f, &R);
+        rt_farm_serve(f, &R, res);
         if (render)
             pthread_join(th, NULL);
     }
@@ -241,7 +224,6 @@ static void run_root(const rt_farm *f, const rt_farm_job *job, rt_farm_result *r
         rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(R.error));
     res->wall = rt_now() - t0;
     R.as.stats[0].maxrss_mb = rt_farm_maxrss_mb();
-    gather_stats(f, R.as.stats, &R.as.stats[0]);
     res->ranks = R.as.stats;
     res->segments = R.as.segments;
     res->trace = R.as.trace;
@@ -249,10 +231,11 @@ static void run_root(const rt_farm *f, const rt_farm_job *job, rt_farm_result *r
     R.as.stats = NULL; /* the caller's now */
     R.as.trace = NULL;
     rt_assembly_free(&R.as);
+    rt_ledger_free(&R.led);
     pthread_mutex_destroy(&R.mu);
 }
 
-int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
+int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
 {
     memset(res, 0, sizeof *res);
     rt_farm_signals_install();
@@ -270,8 +253,6 @@ int rt_farm_render(const rt_farm *f, const rt_farm_job *job, rt_farm_result *res
     memset(&mine, 0, sizeof mine);
     rt_farm_work(f, job, &mine, t0);
     res->wall = rt_now() - t0;
-    mine.maxrss_mb = rt_farm_maxrss_mb();
-    gather_stats(f, NULL, &mine);
     res->segments = (uint64_t)mine.segments;
 #endif
     return RT_OK;

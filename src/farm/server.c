@@ -1,108 +1,392 @@
-/* server.c - rank 0's main thread under MPI: hands out units on request
- * and takes in results, calling the hooks in between. It never blocks in
- * MPI (Open MPI busy-polls inside blocking calls): it probes and sleeps with
+/* server.c - rank 0's main thread under MPI: hands out units and takes in
+ * reports and sums, calling the hooks in between. It never blocks in MPI
+ * (Open MPI busy-polls inside blocking receives): it probes and sleeps with
  * a short back-off, so it costs next to no CPU while rank 0's render thread
- * works. Each result is also the worker's request for one more unit, so a
- * worker always has the next unit at hand and a slow rank gets fewer. */
+ * works.
+ *
+ * Each worker asks for a few units up front; each unit it reports done is
+ * its request for one more, so a slow rank gets fewer. The sums do not come
+ * unit by unit: a worker keeps them (held.h) and sends them combined, when
+ * rank 0 asks (a progressive pass is done, a checkpoint is due, nothing is
+ * left to hand out), when it holds enough, or at its flush interval.
+ *
+ * A worker rank 0 has not heard from for a lease (it sends a beat while it
+ * has nothing else to say) is lost: the ledger queues its units again for
+ * the others, and whatever it sends later is dropped. The image is the same
+ * bytes: every unit's sums enter it exactly once. */
+#define _GNU_SOURCE
 #include "msg.h"
 
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
 
+#include "array.h"
+#include "clock.h"
 #include "status.h"
 
+typedef struct peer {
+    int alive;       /* not lost */
+    double heard;    /* when rank 0 last heard from it */
+    int credit;      /* units it asked for and was not sent */
+    int idle_sent;   /* told IDLE since it was last sent units */
+    int bye, stopped;
+} peer;
+
 typedef struct server {
-    const rt_farm *f;
+    rt_farm *f;
     rt_root *R;
-    int *outstanding; /* per rank: units sent and not yet returned */
-    int finished;     /* workers told DONE */
-    int64_t *msg;     /* the last result received */
+    rt_farm_result *res;
+    peer *peers;
+    void *buf; /* the message being received */
     size_t cap;
+    uint32_t *out; /* UNITS being sent */
+    size_t cap_out;
+    double lease;
+    double last_done;  /* when the last unit was reported done */
+    double next_flush; /* when to ask for sums ahead of the next checkpoint */
+    uint32_t pass_asked; /* passes whose sums were asked for */
+    int finishing;       /* FINISH sent */
 } server;
 
-/* A worker wants `want` units in flight (its first message). */
-static void on_hello(server *s, int src)
+static void lose(server *s, int r, const char *why);
+
+/* Units for r, as many as it has credit for and there are. */
+static void serve_peer(server *s, int r)
 {
-    int32_t want = 0;
-    MPI_Recv(&want, 1, MPI_INT32_T, src, RT_TAG_HELLO, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    peer *p = &s->peers[r];
+    size_t n = 0;
     rt_unit u;
-    for (int k = 0; k < want && rt_root_take(s->R, &u); k++) {
-        rt_msg_send_unit(s->f, src, &u);
-        s->outstanding[src]++;
+    while (p->alive && p->credit > 0 && rt_root_take(s->R, r, &u)) {
+        if (rt_array_reserve((void **)&s->out, &s->cap_out, (n + 1) * RT_MSG_UNIT, sizeof *s->out))
+            rt_farm_fail(s->f, 1, "out of memory on rank 0");
+        uint32_t *m = s->out + n++ * RT_MSG_UNIT;
+        m[0] = u.id, m[1] = u.y0, m[2] = u.y1, m[3] = u.s0, m[4] = u.s1;
+        p->credit--;
     }
-    if (s->outstanding[src] == 0) {
-        rt_msg_send_done(s->f, src);
-        s->finished++;
+    if (n) {
+        p->idle_sent = 0;
+        if (MPI_Send(s->out, (int)(n * RT_MSG_UNIT), MPI_UINT32_T, r, RT_TAG_UNITS, MPI_COMM_WORLD) != MPI_SUCCESS)
+            lose(s, r, "sending it units failed");
+        return;
     }
-}
-
-/* A result: checked, added, and answered with the next unit (or DONE once
- * the worker has none left in flight). */
-static void on_result(server *s, int src, const MPI_Status *status)
-{
-    const rt_farm *f = s->f;
-    int count = 0;
-    MPI_Get_count(status, MPI_INT64_T, &count);
-    if (count < RT_MSG_HDR)
-        rt_farm_fail(f, 1, "malformed result from rank %d", src);
-    if ((size_t)count > s->cap) {
-        int64_t *q = realloc(s->msg, (size_t)count * sizeof *q);
-        if (!q)
-            rt_farm_fail(f, 1, "out of memory on rank 0");
-        s->msg = q;
-        s->cap = (size_t)count;
-    }
-    if (MPI_Recv(s->msg, count, MPI_INT64_T, src, RT_TAG_RESULT, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "receiving a result from rank %d failed", src);
-    const int64_t *m = s->msg;
     pthread_mutex_lock(&s->R->mu);
-    const rt_unit *known = m[0] >= 0 && m[0] <= UINT32_MAX ? rt_sched_unit(&s->R->as.sched, (uint32_t)m[0]) : NULL;
-    rt_unit done = known ? *known : (rt_unit){0, 0, 0, 0, 0};
+    int none = s->R->led.assigned[r] == 0;
     pthread_mutex_unlock(&s->R->mu);
-    if (!known)
-        rt_farm_fail(f, 1, "result for unknown unit %lld from rank %d", (long long)m[0], src);
-    if ((size_t)count != RT_MSG_HDR + (size_t)(done.y1 - done.y0) * s->R->as.width * 3)
-        rt_farm_fail(f, 1, "result of wrong size from rank %d", src);
-    rt_root_add(s->R, src, &done, m + RT_MSG_HDR, (uint64_t)m[1], (double)m[2] * 1e-9, (double)m[3] * 1e-9);
-    rt_unit next;
-    if (rt_root_take(s->R, &next)) {
-        rt_msg_send_unit(f, src, &next);
-    } else if (--s->outstanding[src] == 0) {
-        rt_msg_send_done(f, src);
-        s->finished++;
+    if (p->alive && none && !p->idle_sent && !s->finishing) {
+        p->idle_sent = 1;
+        if (rt_msg_signal(r, RT_TAG_IDLE) != MPI_SUCCESS)
+            lose(s, r, "sending to it failed");
     }
 }
 
-void rt_farm_serve(const rt_farm *f, rt_root *R)
+static void serve_all(server *s)
 {
-    server s = {f, R, calloc((size_t)f->size, sizeof(int)), 0, NULL, 0};
-    if (!s.outstanding)
-        rt_farm_fail(f, 1, "out of memory on rank 0");
+    for (int r = 1; r < s->f->size; r++)
+        if (s->peers[r].alive && s->peers[r].credit > 0)
+            serve_peer(s, r);
+}
+
+/* r is lost: its units go back to the queue and to whoever asked. */
+static void lose(server *s, int r, const char *why)
+{
+    if (!s->peers[r].alive)
+        return;
+    s->peers[r].alive = 0;
+    s->res->lost++;
+    pthread_mutex_lock(&s->R->mu);
+    uint32_t back = rt_ledger_lose(&s->R->led, r);
+    s->R->as.stats[r].lost = 1;
+    int complete = rt_assembly_complete(&s->R->as);
+    pthread_mutex_unlock(&s->R->mu);
+    fprintf(stderr, "rt-mpi: warning: rank %d lost (%s): %u unit%s go%s to the other ranks\n", r, why, back,
+            back == 1 ? "" : "s", back == 1 ? "es" : "");
+    int left = 0;
+    for (int q = 1; q < s->f->size; q++)
+        left += s->peers[q].alive;
+    if (!left && s->R->job->root_serves_only && !complete)
+        rt_farm_fail(s->f, 1, "every rank that renders is lost");
+    serve_all(s);
+}
+
+/* Sums held by the workers, asked for (a pass is done, a checkpoint due). */
+static void ask_sums(server *s)
+{
+    for (int r = 1; r < s->f->size; r++) {
+        pthread_mutex_lock(&s->R->mu);
+        int held = s->R->led.held[r] > 0;
+        pthread_mutex_unlock(&s->R->mu);
+        if (s->peers[r].alive && held && rt_msg_signal(r, RT_TAG_FLUSH) != MPI_SUCCESS)
+            lose(s, r, "sending to it failed");
+    }
+}
+
+static void on_report(server *s, int r, const int64_t *m, int count)
+{
+    if (count % RT_MSG_REPORT)
+        rt_farm_fail(s->f, 1, "malformed report from rank %d", r);
+    int n = count / RT_MSG_REPORT;
+    pthread_mutex_lock(&s->R->mu);
+    for (int k = 0; k < n; k++, m += RT_MSG_REPORT) {
+        uint32_t id = m[0] >= 0 && m[0] <= UINT32_MAX ? (uint32_t)m[0] : UINT32_MAX;
+        if (!rt_ledger_done(&s->R->led, r, id)) {
+            pthread_mutex_unlock(&s->R->mu);
+            rt_farm_fail(s->f, 1, "rank %d reported unit %lld, which it does not hold", r, (long long)m[0]);
+        }
+        rt_assembly_account(&s->R->as, r, rt_sched_unit(&s->R->as.sched, id), (uint64_t)m[1], (double)m[2] * 1e-9,
+                            (double)m[3] * 1e-9);
+    }
+    pthread_mutex_unlock(&s->R->mu);
+    s->last_done = rt_now();
+    s->peers[r].credit += n;
+    serve_peer(s, r);
+}
+
+/* One piece at m (count int64 left): rows [y0, y1), samples [s0, s1), its
+ * units, their sums. Every unit must be one r holds, of those rows, and
+ * together they must cover exactly [s0, s1). Returns the int64 it took. */
+static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
+{
+    rt_assembly *a = &s->R->as;
+    const rt_sched *sc = &a->sched;
+    int ok = count >= RT_MSG_PIECE && m[4] > 0 && m[4] <= sc->n_units && m[0] >= 0 && m[0] < m[1] &&
+             m[1] <= sc->height && m[2] >= 0 && m[2] < m[3] && m[3] <= sc->samples;
+    const size_t n_ids = ok ? (size_t)m[4] : 0;
+    const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[2] : 0,
+                           ok ? (uint32_t)m[3] : 0};
+    const size_t len = RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->width * 3;
+    ok = ok && count >= len;
+    uint64_t covered = 0;
+    for (size_t k = 0; ok && k < n_ids; k++) {
+        const rt_unit *u = m[RT_MSG_PIECE + k] >= 0 && m[RT_MSG_PIECE + k] <= UINT32_MAX
+                               ? rt_sched_unit(sc, (uint32_t)m[RT_MSG_PIECE + k])
+                               : NULL;
+        ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->s0 >= block.s0 && u->s1 <= block.s1;
+        covered += ok ? u->s1 - u->s0 : 0;
+    }
+    if (!ok || covered != block.s1 - block.s0)
+        rt_farm_fail(s->f, 1, "malformed sums from rank %d", r);
+    pthread_mutex_lock(&s->R->mu);
+    for (size_t k = 0; k < n_ids; k++)
+        if (!rt_ledger_in(&s->R->led, r, (uint32_t)m[RT_MSG_PIECE + k])) {
+            pthread_mutex_unlock(&s->R->mu);
+            rt_farm_fail(s->f, 1, "rank %d sent sums of a unit it does not hold", r);
+        }
+    int st = rt_assembly_sums(a, &block, m + RT_MSG_PIECE + n_ids, (uint32_t)n_ids);
+    if (st && !s->R->error)
+        s->R->error = st;
+    pthread_mutex_unlock(&s->R->mu);
+    return len;
+}
+
+/* A flush: one or more pieces. */
+static void on_sums(server *s, int r, const int64_t *m, int count)
+{
+    for (size_t at = 0; at < (size_t)count;)
+        at += on_piece(s, r, m + at, (size_t)count - at);
+}
+
+static void on_bye(server *s, int r, const double *m, int count)
+{
+    if (count != 4)
+        rt_farm_fail(s->f, 1, "malformed bye from rank %d", r);
+    pthread_mutex_lock(&s->R->mu);
+    rt_rank_stats *st = &s->R->as.stats[r];
+    st->wait = m[0], st->comm = m[1], st->maxrss_mb = m[2], st->held_mb = m[3];
+    pthread_mutex_unlock(&s->R->mu);
+    s->peers[r].bye = 1;
+}
+
+/* The MPI type a tag's message is made of, and its size. */
+static MPI_Datatype type_of(int tag, size_t *size)
+{
+    switch (tag) {
+    case RT_TAG_HELLO:
+        *size = 4;
+        return MPI_INT32_T;
+    case RT_TAG_REPORT:
+    case RT_TAG_SUMS:
+        *size = 8;
+        return MPI_INT64_T;
+    case RT_TAG_BYE:
+        *size = 8;
+        return MPI_DOUBLE;
+    default:
+        *size = 1;
+        return MPI_BYTE;
+    }
+}
+
+/* Receives the message status announced and acts on it. */
+static void receive(server *s, const MPI_Status *status)
+{
+    const int r = status->MPI_SOURCE, tag = status->MPI_TAG;
+    size_t size;
+    MPI_Datatype type = type_of(tag, &size);
+    int count = 0;
+    MPI_Get_count(status, type, &count);
+    if (count < 0 || (count > 0 && rt_array_reserve(&s->buf, &s->cap, (size_t)count, size)))
+        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+    if (MPI_Recv(s->buf, count, type, r, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS) {
+        lose(s, r, "receiving from it failed");
+        return;
+    }
+    s->res->msgs_in++;
+    s->res->bytes_in += (uint64_t)count * size;
+    peer *p = &s->peers[r];
+    if (!p->alive)
+        return; /* a lost rank's word comes too late: its units are elsewhere */
+    p->heard = rt_now();
+    switch (tag) {
+    case RT_TAG_HELLO:
+        p->credit = count == 1 && *(int32_t *)s->buf > 0 ? *(int32_t *)s->buf : 1;
+        serve_peer(s, r);
+        break;
+    case RT_TAG_REPORT:
+        on_report(s, r, s->buf, count);
+        break;
+    case RT_TAG_SUMS:
+        on_sums(s, r, s->buf, count);
+        break;
+    case RT_TAG_BYE:
+        on_bye(s, r, s->buf, count);
+        break;
+    case RT_TAG_STOPPED:
+        p->stopped = 1;
+        break;
+    case RT_TAG_BEAT:
+        break;
+    default:
+        rt_farm_fail(s->f, 1, "unexpected message tag %d from rank %d", tag, r);
+    }
+}
+
+/* Takes in whatever came, or naps; returns 1 when a message came. */
+static int poll_once(server *s, int *idle)
+{
+    int flag = 0;
+    MPI_Status status;
+    if (rt_msg_probe(MPI_ANY_SOURCE, &flag, &status) != MPI_SUCCESS)
+        rt_farm_fail(s->f, 1, "MPI_Iprobe failed");
+    if (!flag) {
+        rt_msg_nap(idle);
+        return 0;
+    }
+    *idle = 0;
+    receive(s, &status);
+    return 1;
+}
+
+/* Workers silent for longer than the lease are lost. */
+static void check_leases(server *s)
+{
+    double now = rt_now();
+    for (int r = 1; r < s->f->size; r++) {
+        peer *p = &s->peers[r];
+        if (p->alive && !p->bye && now - p->heard > s->lease) {
+            char why[64];
+            snprintf(why, sizeof why, "no word from it for %.1f s", now - p->heard);
+            lose(s, r, why);
+        }
+    }
+}
+
+static int all_alive(const server *s, int bye)
+{
+    for (int r = 1; r < s->f->size; r++)
+        if (s->peers[r].alive && !(bye ? s->peers[r].bye : s->peers[r].stopped || s->peers[r].bye))
+            return 0;
+    return 1;
+}
+
+/* A signal stopped the job: every worker sends what it holds and stops
+ * (mpirun forwards the signal to them; STOP covers a signal sent to rank
+ * 0 alone). What is in is saved first: when a rank died, mpirun's SIGTERM
+ * gives rank 0 about a second before it kills it, and the dead rank never
+ * answers. Then it waits for the others a second at most (the caller saves
+ * again). */
+static void stop_workers(server *s)
+{
+    rt_root_save_now(s->R);
+    for (int r = 1; r < s->f->size; r++)
+        if (s->peers[r].alive && rt_msg_signal(r, RT_TAG_STOP) != MPI_SUCCESS)
+            lose(s, r, "sending to it failed");
+    double deadline = rt_now() + (s->lease < 1 ? s->lease : 1);
     int idle = 0;
-    while (!RT_FARM_STOPPED()) { /* on a signal the caller saves and ends the job */
+    while (!all_alive(s, 0) && rt_now() < deadline)
+        poll_once(s, &idle);
+}
+
+/* Progressive passes and checkpoints want the sums the workers hold. */
+static void ask_when_due(server *s)
+{
+    const rt_farm_hooks *h = &s->R->job->hooks;
+    pthread_mutex_lock(&s->R->mu);
+    int pass_done = s->pass_asked + 1 < s->R->led.passes && rt_ledger_pass_done(&s->R->led, s->pass_asked);
+    pthread_mutex_unlock(&s->R->mu);
+    double now = rt_now();
+    int ckpt = h->save && now >= s->next_flush;
+    if (ckpt)
+        s->next_flush = now + h->save_interval;
+    if (pass_done)
+        s->pass_asked++;
+    if (pass_done || ckpt)
+        ask_sums(s);
+}
+
+static double thread_cpu(void)
+{
+    struct rusage ru;
+    if (getrusage(RUSAGE_THREAD, &ru) != 0)
+        return 0;
+    return (double)ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+           1e-6 * ru.ru_stime.tv_usec;
+}
+
+void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
+{
+    server s = {f, R, res, calloc((size_t)f->size, sizeof(peer)), NULL, 0, NULL, 0, 0, 0, 0, 0, 0};
+    if (!s.peers)
+        rt_farm_fail(f, 1, "out of memory on rank 0");
+    s.lease = R->job->lease > 0 ? R->job->lease : 5.0;
+    double cpu0 = thread_cpu(), now = rt_now();
+    s.next_flush = now + R->job->hooks.save_interval / 2;
+    for (int r = 1; r < f->size; r++)
+        s.peers[r] = (peer){1, now, 0, 0, 0, 0};
+    int idle = 0;
+    for (;;) {
+        if (RT_FARM_STOPPED()) {
+            stop_workers(&s); /* the caller saves and ends the job */
+            break;
+        }
         pthread_mutex_lock(&R->mu);
         int complete = rt_assembly_complete(&R->as), err = R->error;
         pthread_mutex_unlock(&R->mu);
         if (err)
             rt_farm_fail(f, 1, "rendering on rank 0 failed: %s", rt_status_str(err));
         rt_root_tick(R);
-        if (complete && s.finished == f->size - 1)
-            break;
-        int flag = 0;
-        MPI_Status status;
-        if (rt_msg_probe(MPI_ANY_SOURCE, &flag, &status) != MPI_SUCCESS)
-            rt_farm_fail(f, 1, "MPI_Iprobe failed");
-        if (!flag) {
-            rt_msg_nap(&idle);
-            continue;
+        ask_when_due(&s);
+        if (complete && !s.finishing) {
+            s.finishing = 1;
+            res->final_combine = s.last_done > 0 ? rt_now() - s.last_done : 0;
+            /* It tells the workers whether ranks were lost: then none may
+             * wait for the others in MPI_Finalize (rt_farm_finalize). */
+            for (int r = 1; r < f->size; r++) {
+                int32_t lost = res->lost;
+                if (s.peers[r].alive &&
+                    MPI_Send(&lost, 1, MPI_INT32_T, r, RT_TAG_FINISH, MPI_COMM_WORLD) != MPI_SUCCESS)
+                    lose(&s, r, "sending to it failed");
+            }
         }
-        idle = 0;
-        if (status.MPI_TAG == RT_TAG_HELLO)
-            on_hello(&s, status.MPI_SOURCE);
-        else if (status.MPI_TAG == RT_TAG_RESULT)
-            on_result(&s, status.MPI_SOURCE, &status);
-        else
-            rt_farm_fail(f, 1, "unexpected message tag %d from rank %d", status.MPI_TAG, status.MPI_SOURCE);
+        if (complete && all_alive(&s, 1))
+            break;
+        check_leases(&s);
+        poll_once(&s, &idle);
     }
-    free(s.outstanding);
-    free(s.msg);
+    f->lost = res->lost;
+    res->serve_cpu = thread_cpu() - cpu0;
+    free(s.peers);
+    free(s.buf);
+    free(s.out);
 }

@@ -33,6 +33,12 @@ void rt_farm_signals_install(void)
 
 const volatile sig_atomic_t *rt_farm_stop_flag(void) { return &g_stop; }
 
+void rt_farm_stop_raise(int sig)
+{
+    if (!g_stop)
+        g_stop = sig;
+}
+
 #ifdef RT_HAVE_MPI
 /* Whether an MPI launcher started this process: mpirun (Open MPI, MPICH,
  * Intel MPI, MVAPICH) and srun with a PMI or PMIx plugin all leave one of
@@ -102,6 +108,16 @@ const char *rt_farm_mpi_version(void)
 void rt_farm_finalize(rt_farm *f)
 {
 #ifdef RT_HAVE_MPI
+    if (f->mpi && f->lost) {
+        /* A lost rank never reaches MPI_Finalize, and the others would wait
+         * for it there: the work is saved, so the workers leave without it
+         * and rank 0 ends the job, with status 0. */
+        fflush(stdout);
+        fflush(stderr);
+        if (f->rank != 0)
+            _exit(0);
+        MPI_Abort(MPI_COMM_WORLD, 0);
+    }
     if (f->mpi)
         MPI_Finalize();
 #endif

@@ -1,13 +1,16 @@
-/* worker.c - a rank other than 0. Its units come from rank 0 and its
- * results go back by MPI, which only its main thread may call
- * (MPI_THREAD_FUNNELED), while any thread of the render stream takes units
- * and hands in results. So the stream's take and done only move units and
- * results through this state, under mu; poll, on the main thread (the
- * stream's master, between its pixels), does the MPI: it posts the results
- * ready, completes sends, and receives units. It asks for `prefetch` units
- * up front, so the next unit is always at hand. */
+/* worker.c - a rank other than 0. Its units come from rank 0; it reports
+ * each one done (a few bytes, which also asks for the next) and keeps the
+ * sums (held.h), sending them combined when rank 0 asks, when it holds
+ * flush_bytes, at its flush interval, and on a signal. Only the main
+ * thread may call MPI (MPI_THREAD_FUNNELED) while any thread of the render
+ * stream takes units and hands in results: take and done only move units
+ * and sums through this state, under mu; poll, on the main thread (the
+ * stream's master, between its pixels), does the MPI. While it has nothing
+ * else to say for a quarter of the lease, it sends a beat: rank 0 takes a
+ * rank it has not heard from for a lease as lost. */
 #include "msg.h"
 
+#include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,10 +21,11 @@
 #include "clock.h"
 #include "status.h"
 
-/* A signal reached this worker (mpirun forwards it to every rank). Rank 0
- * saves the checkpoint and its exit ends the job; a worker that left first
- * would make mpirun report the worker instead, so it waits to be ended, and
- * leaves by itself only if rank 0 does not (a signal sent to it alone). */
+/* A signal reached this worker (mpirun forwards it to every rank), or rank
+ * 0 said STOP: its sums are sent. Rank 0 saves the checkpoint and its exit
+ * ends the job; a worker that left first would make mpirun report the
+ * worker instead, so it waits to be ended, and leaves by itself only if
+ * rank 0 does not (a signal sent to it alone). */
 static void worker_stop(void) __attribute__((noreturn));
 static void worker_stop(void)
 {
@@ -32,17 +36,6 @@ static void worker_stop(void)
     _exit(RT_EXIT_INTERRUPTED);
 }
 
-/* A result buffer's life: free, being filled by done (outside the lock),
- * ready for poll to send, being sent. */
-enum { RES_FREE, RES_FILLING, RES_READY, RES_SENDING };
-
-typedef struct result {
-    int64_t *buf; /* RT_MSG_HDR + sums */
-    size_t cap, len;
-    MPI_Request req;
-    int state;
-} result;
-
 typedef struct in_hand {
     uint32_t id;
     int used;
@@ -50,18 +43,26 @@ typedef struct in_hand {
 } in_hand;
 
 typedef struct worker {
-    const rt_farm *f;
+    rt_farm *f;
     const rt_farm_job *job;
     rt_rank_stats *me;
-    double t_start, last_end, last_poll;
+    double t_start, last_end, last_poll, last_sent, last_flush;
+    double flush_interval, beat;
+    size_t flush_bytes;
     pthread_mutex_t mu;
-    rt_unit *queue; /* received, not yet taken */
+    rt_unit *queue; /* received, not yet taken (a ring of depth) */
     in_hand *hand;  /* taken, not yet done: when each was taken */
-    int depth, qhead, qlen, finished, idle, failed;
-    atomic_int ready; /* a result waits to be sent (set by done, read by poll without mu) */
-    int calls, stride; /* poll: calls since it last read the clock, and every how many it does */
-    result *res;
-    size_t n_res, cap_res;
+    int depth, qhead, qlen, finished, failed, flush_wanted;
+    int64_t *reports; /* RT_MSG_REPORT per unit done, not yet reported */
+    size_t n_reports, cap_reports;
+    rt_held held;      /* sums not yet sent */
+    rt_held *sealed;   /* full stores waiting to be sent, oldest first */
+    size_t n_sealed, cap_sealed, sealed_bytes;
+    double held_peak;  /* bytes */
+    atomic_int ready;  /* reports or sums wait (set by done, read by poll without mu) */
+    int calls, stride, idle; /* poll: calls since it last read the clock, and every how many it does */
+    int64_t *msg;      /* a piece being sent */
+    size_t cap_msg;
 } worker;
 
 static int worker_take(void *ctx, rt_unit *u)
@@ -83,19 +84,23 @@ static int worker_take(void *ctx, rt_unit *u)
     return got;
 }
 
-/* A finished unit: copied into a free result buffer (the stream reuses its
- * own at once, and MPI_Isend needs the data until the send completes),
- * ready for poll to send. The slot is chosen under mu and marked filling, so
- * poll leaves it alone while the copy (and a first malloc's page faults)
- * runs outside the lock, which poll and worker_take need, and the stream's
- * take waits on (the copy under mu held it 14 us a unit: 1.8 ms of a 78 ms
- * render of 600x400 at 2 spp on a worker with two threads; out of it, 1.004
- * and 1.009 in paired rounds, within noise). done calls come one at a
- * time (rt_render_stream), so no other call moves w->res meanwhile. */
+/* A unit that shares rows with the store without extending it starts a new
+ * store; the full one waits to be sent. Under mu. */
+static int seal(worker *w)
+{
+    if (rt_array_reserve((void **)&w->sealed, &w->cap_sealed, w->n_sealed + 1, sizeof *w->sealed))
+        return RT_ENOMEM;
+    w->sealed[w->n_sealed++] = w->held;
+    w->sealed_bytes += w->held.bytes;
+    rt_held_init(&w->held, w->held.width);
+    return RT_OK;
+}
+
+/* A finished unit: its report queued, its sums added to the store. done
+ * calls come one at a time (rt_render_stream). */
 static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     worker *w = ctx;
-    const size_t n = RT_MSG_HDR + (size_t)(u->y1 - u->y0) * w->job->renderer->job.width * 3;
     double end = rt_now() - w->t_start, taken = 0;
     pthread_mutex_lock(&w->mu);
     for (int k = 0; k < w->depth; k++)
@@ -105,80 +110,169 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
             break;
         }
     const double start = rt_farm_unit_start(taken, &w->last_end, end);
-    result *r = NULL;
-    for (size_t k = 0; k < w->n_res && !r; k++)
-        if (w->res[k].state == RES_FREE)
-            r = &w->res[k];
-    if (!r && rt_array_reserve((void **)&w->res, &w->cap_res, w->n_res + 1, sizeof *w->res) == RT_OK) {
-        r = &w->res[w->n_res++];
-        *r = (result){NULL, 0, 0, MPI_REQUEST_NULL, RES_FREE};
-    }
-    if (!r) {
+    int st = rt_array_reserve((void **)&w->reports, &w->cap_reports, w->n_reports + RT_MSG_REPORT, sizeof(int64_t));
+    if (!st && !rt_held_fits(&w->held, u))
+        st = seal(w);
+    if (!st)
+        st = rt_held_add(&w->held, u, sums);
+    if (st) {
         w->failed = 1; /* poll ends the job: only the main thread may */
-        pthread_mutex_unlock(&w->mu);
-        return;
-    }
-    r->state = RES_FILLING;
-    pthread_mutex_unlock(&w->mu);
-    if (n > r->cap) {
-        free(r->buf);
-        r->cap = 0;
-        if ((r->buf = malloc(n * sizeof *r->buf)))
-            r->cap = n;
-    }
-    if (r->buf) {
-        r->buf[0] = u->id;
-        r->buf[1] = (int64_t)segs;
-        r->buf[2] = (int64_t)(start * 1e9);
-        r->buf[3] = (int64_t)(end * 1e9);
-        memcpy(r->buf + RT_MSG_HDR, sums, (n - RT_MSG_HDR) * sizeof *sums);
-        r->len = n;
-    }
-    pthread_mutex_lock(&w->mu);
-    if (r->buf) {
-        r->state = RES_READY;
-        atomic_store(&w->ready, 1);
     } else {
-        r->state = RES_FREE;
-        w->failed = 1;
+        int64_t *r = w->reports + w->n_reports;
+        r[0] = u->id, r[1] = (int64_t)segs, r[2] = (int64_t)(start * 1e9), r[3] = (int64_t)(end * 1e9);
+        w->n_reports += RT_MSG_REPORT;
+        double held = (double)(w->held.bytes + w->sealed_bytes);
+        if (held > w->held_peak)
+            w->held_peak = held;
+        if (w->held.bytes + w->sealed_bytes >= w->flush_bytes)
+            w->flush_wanted = 1;
     }
+    atomic_store(&w->ready, 1);
     pthread_mutex_unlock(&w->mu);
     rt_rank_stats_add(w->me, u, w->job->renderer->job.samples, segs, start, end);
 }
 
-/* Sends the results that are ready and completes the sends that are done;
- * returns 1 when every result ready or sending has gone out (one still
- * being filled is not counted: the final drain runs after the stream has
- * ended, when none is). Main thread only. */
-static int worker_send(worker *w)
+static void send_or_fail(worker *w, const void *buf, int count, MPI_Datatype type, int tag)
+{
+    if (MPI_Send(buf, count, type, 0, tag, MPI_COMM_WORLD) != MPI_SUCCESS)
+        rt_farm_fail(w->f, 1, "cannot reach rank 0");
+    w->last_sent = rt_now();
+}
+
+static void send_reports(worker *w)
 {
     pthread_mutex_lock(&w->mu);
     if (w->failed)
-        rt_farm_fail(w->f, 1, "out of memory for a result");
-    int all = 1;
-    for (size_t k = 0; k < w->n_res; k++) {
-        result *r = &w->res[k];
-        if (r->state == RES_READY) {
-            if (MPI_Isend(r->buf, (int)r->len, MPI_INT64_T, 0, RT_TAG_RESULT, MPI_COMM_WORLD, &r->req) != MPI_SUCCESS)
-                rt_farm_fail(w->f, 1, "sending a result to rank 0 failed");
-            r->state = RES_SENDING;
-        }
-        if (r->state == RES_SENDING) {
-            int flag = 0;
-            MPI_Test(&r->req, &flag, MPI_STATUS_IGNORE);
-            if (flag)
-                r->state = RES_FREE;
-            else
-                all = 0;
-        }
-    }
-    atomic_store(&w->ready, 0);
+        rt_farm_fail(w->f, 1, "out of memory for the sums of a unit");
+    int64_t *r = w->reports;
+    size_t n = w->n_reports;
+    w->reports = NULL;
+    w->n_reports = w->cap_reports = 0;
     pthread_mutex_unlock(&w->mu);
-    return all;
+    if (n)
+        send_or_fail(w, r, (int)n, MPI_INT64_T, RT_TAG_REPORT);
+    free(r);
+}
+
+/* One message for the pieces of a store: each row at most once. */
+static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
+{
+    if (!n_pieces)
+        return;
+    const size_t row = (size_t)w->held.width * 3;
+    size_t n = 0;
+    for (size_t i = 0; i < n_pieces; i++)
+        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * row;
+    if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
+        rt_farm_fail(w->f, 1, "out of memory for the sums to send");
+    int64_t *m = w->msg;
+    for (size_t i = 0; i < n_pieces; i++) {
+        size_t sums = (size_t)(p[i].y1 - p[i].y0) * row;
+        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].s0, m[3] = p[i].s1, m[4] = (int64_t)p[i].n_ids;
+        for (size_t k = 0; k < p[i].n_ids; k++)
+            m[RT_MSG_PIECE + k] = p[i].ids[k];
+        memcpy(m + RT_MSG_PIECE + p[i].n_ids, p[i].sums, sums * sizeof *p[i].sums);
+        m += RT_MSG_PIECE + p[i].n_ids + sums;
+    }
+    send_or_fail(w, w->msg, (int)n, MPI_INT64_T, RT_TAG_SUMS);
+}
+
+/* Sends every sum held: the sealed stores first, then the current one.
+ * The reports go first, so rank 0 knows each unit done before its sums. */
+static void flush(worker *w)
+{
+    send_reports(w);
+    pthread_mutex_lock(&w->mu);
+    rt_held *sealed = w->sealed;
+    size_t n_sealed = w->n_sealed, n_cur;
+    rt_piece *cur = rt_held_take(&w->held, &n_cur);
+    w->sealed = NULL;
+    w->n_sealed = w->cap_sealed = w->sealed_bytes = 0;
+    w->flush_wanted = 0;
+    pthread_mutex_unlock(&w->mu);
+    for (size_t i = 0; i < n_sealed; i++) {
+        send_pieces(w, sealed[i].pieces, sealed[i].n);
+        rt_held_free(&sealed[i]);
+    }
+    free(sealed);
+    send_pieces(w, cur, n_cur);
+    rt_held_free_pieces(cur, n_cur);
+    w->last_flush = rt_now();
+}
+
+/* Units from rank 0, into the ring. */
+static void receive_units(worker *w, const MPI_Status *status)
+{
+    int count = 0;
+    MPI_Get_count(status, MPI_UINT32_T, &count);
+    uint32_t *m = count > 0 ? malloc((size_t)count * sizeof *m) : NULL;
+    if (count <= 0 || count % RT_MSG_UNIT || !m)
+        rt_farm_fail(w->f, 1, "malformed units from rank 0");
+    MPI_Recv(m, count, MPI_UINT32_T, 0, RT_TAG_UNITS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    const rt_job *j = &w->job->renderer->job;
+    pthread_mutex_lock(&w->mu);
+    int bad = 0;
+    for (int k = 0; k < count; k += RT_MSG_UNIT) {
+        rt_unit u = {m[k], m[k + 1], m[k + 2], m[k + 3], m[k + 4]};
+        bad |= u.y1 <= u.y0 || u.y1 > j->height || u.s1 <= u.s0 || u.s1 > j->samples || w->qlen == w->depth;
+        if (!bad)
+            w->queue[(w->qhead + w->qlen++) % w->depth] = u;
+    }
+    pthread_mutex_unlock(&w->mu);
+    free(m);
+    if (bad)
+        rt_farm_fail(w->f, 1, "malformed or unrequested units from rank 0");
+}
+
+/* Everything rank 0 sent; returns 1 when something came. */
+static int receive(worker *w)
+{
+    int got = 0;
+    for (;;) {
+        int flag = 0;
+        MPI_Status status;
+        if (rt_msg_probe(0, &flag, &status) != MPI_SUCCESS)
+            rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
+        if (!flag)
+            return got;
+        got = 1;
+        int tag = status.MPI_TAG;
+        if (tag == RT_TAG_UNITS) {
+            receive_units(w, &status);
+            continue;
+        }
+        if (tag == RT_TAG_FINISH) {
+            int32_t lost = 0;
+            MPI_Recv(&lost, 1, MPI_INT32_T, 0, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            w->f->lost = lost;
+            pthread_mutex_lock(&w->mu);
+            w->finished = 1;
+            pthread_mutex_unlock(&w->mu);
+            continue;
+        }
+        MPI_Recv(NULL, 0, MPI_BYTE, 0, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        pthread_mutex_lock(&w->mu);
+        if (tag == RT_TAG_IDLE || tag == RT_TAG_FLUSH)
+            w->flush_wanted = 1;
+        pthread_mutex_unlock(&w->mu);
+        if (tag == RT_TAG_STOP)
+            rt_farm_stop_raise(SIGTERM);
+        else if (tag != RT_TAG_IDLE && tag != RT_TAG_FLUSH)
+            rt_farm_fail(w->f, 1, "unexpected message tag %d from rank 0", tag);
+    }
+}
+
+/* Stopped by a signal or by rank 0: the sums go out, then it waits to be
+ * ended. */
+static void stop(worker *w)
+{
+    flush(w);
+    send_or_fail(w, NULL, 0, MPI_BYTE, RT_TAG_STOPPED);
+    worker_stop();
 }
 
 /* The stream's poll, after every pixel of the master thread: the worker's
- * MPI, on its main thread. Results go out at once; otherwise, while
+ * MPI, on its main thread. Reports go out at once; otherwise, while
  * rendering, it looks for messages about every 100 us. Reading the clock
  * costs about 30 ns here, and a pixel at 1 spp about 200 ns, so it reads it
  * only every w->stride calls, the stride doubled or halved to keep the
@@ -200,41 +294,22 @@ static int worker_poll(void *ctx, int idle)
             return 0;
     }
     w->last_poll = t0;
-    worker_send(w);
-    int got = 0;
-    for (;;) {
-        if (RT_FARM_STOPPED())
-            return 1; /* the stream sees the stop too; wake its threads */
-        int flag = 0;
-        MPI_Status status;
-        if (rt_msg_probe(0, &flag, &status) != MPI_SUCCESS)
-            rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
-        if (!flag)
-            break;
-        got = 1;
-        if (status.MPI_TAG == RT_TAG_UNIT) {
-            uint32_t m[5];
-            MPI_Recv(m, 5, MPI_UINT32_T, 0, RT_TAG_UNIT, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            rt_unit u = {m[0], m[1], m[2], m[3], m[4]};
-            const rt_job *p = &w->job->renderer->job;
-            if (u.y1 <= u.y0 || u.y1 > p->height || u.s1 <= u.s0 || u.s1 > p->samples)
-                rt_farm_fail(w->f, 1, "malformed work unit from rank 0");
-            pthread_mutex_lock(&w->mu);
-            int full = w->qlen == w->depth;
-            if (!full)
-                w->queue[(w->qhead + w->qlen++) % w->depth] = u;
-            pthread_mutex_unlock(&w->mu);
-            if (full)
-                rt_farm_fail(w->f, 1, "received more units than requested");
-        } else if (status.MPI_TAG == RT_TAG_DONE) {
-            MPI_Recv(NULL, 0, MPI_UINT32_T, 0, RT_TAG_DONE, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            pthread_mutex_lock(&w->mu);
-            w->finished = 1;
-            pthread_mutex_unlock(&w->mu);
-        } else {
-            rt_farm_fail(w->f, 1, "unexpected message tag %d from rank 0", status.MPI_TAG);
-        }
-    }
+    atomic_store(&w->ready, 0);
+    if (RT_FARM_STOPPED())
+        stop(w);
+    pthread_mutex_lock(&w->mu);
+    int due = w->flush_wanted || w->n_sealed ||
+              ((w->held.n || w->n_reports) && t0 - w->last_flush >= w->flush_interval);
+    pthread_mutex_unlock(&w->mu);
+    if (due)
+        flush(w);
+    else
+        send_reports(w);
+    if (t0 - w->last_sent > w->beat)
+        send_or_fail(w, NULL, 0, MPI_BYTE, RT_TAG_BEAT);
+    int got = receive(w);
+    if (RT_FARM_STOPPED())
+        stop(w); /* the stream would drop its units and end: stop here */
     if (got)
         w->idle = 0;
     if (idle && !got) {
@@ -246,7 +321,7 @@ static int worker_poll(void *ctx, int idle)
     return got;
 }
 
-void rt_farm_work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t_start)
+void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t_start)
 {
     worker w;
     memset(&w, 0, sizeof w);
@@ -256,7 +331,12 @@ void rt_farm_work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, d
     w.t_start = t_start;
     w.depth = job->prefetch > 0 ? job->prefetch : 2;
     w.stride = 1;
+    w.flush_interval = job->flush_interval > 0 ? job->flush_interval : 1.0;
+    w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)64 << 20;
+    w.beat = (job->lease > 0 ? job->lease : 5.0) / 4;
+    w.last_flush = w.last_sent = rt_now();
     atomic_init(&w.ready, 0);
+    rt_held_init(&w.held, job->renderer->job.width);
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)
@@ -270,20 +350,20 @@ void rt_farm_work(const rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, d
         rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
 #endif
     int32_t want = w.depth;
-    if (MPI_Send(&want, 1, MPI_INT32_T, 0, RT_TAG_HELLO, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "cannot reach rank 0");
+    send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
     rt_render_source src = {worker_take, worker_done, worker_poll, &w};
     int st = rt_farm_run_units(job, &src);
     if (st)
         rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(st));
     if (RT_FARM_STOPPED())
-        worker_stop();
-    /* The last results out, without spinning. */
-    while (!worker_send(&w))
-        rt_msg_nap(&w.idle);
-    for (size_t k = 0; k < w.n_res; k++)
-        free(w.res[k].buf);
-    free(w.res);
+        stop(&w);
+    /* FINISH came: every sum is in, this flush sends nothing. */
+    flush(&w);
+    double bye[4] = {me->wait, me->comm, rt_farm_maxrss_mb(), w.held_peak / (1024.0 * 1024.0)};
+    send_or_fail(&w, bye, 4, MPI_DOUBLE, RT_TAG_BYE);
+    rt_held_free(&w.held);
+    free(w.reports);
+    free(w.msg);
     free(w.queue);
     free(w.hand);
     pthread_mutex_destroy(&w.mu);

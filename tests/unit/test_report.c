@@ -119,9 +119,11 @@ int main(void)
     rt_job job = {0};
     job.width = 4, job.height = 2, job.samples = 3, job.max_depth = 5, job.seed = UINT64_MAX;
     rt_rank_stats ranks[2] = {{.units = 3, .rows = 1.5, .busy = 0.25}, {.units = 2, .rows = 0.5, .busy = 0.125}};
+    rt_farm_result farm = {.msgs_in = 9, .bytes_in = (1ull << 53) + 1, .lost = 1};
+    ranks[1].lost = 1;
     rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75,
                         (1ull << 60) + 1, ranks,
-                        {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}};
+                        {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm};
     CHECK_EQ_INT(rt_report_stats(stats, &s), 0);
     cJSON *doc = load(stats);
     if (doc) {
@@ -155,6 +157,10 @@ int main(void)
     char *text = slurp(stats);
     CHECK(text && strstr(text, "\"seed\":\t18446744073709551615,"));
     CHECK(text && strstr(text, "\"ray_segments\":\t1152921504606846977,"));
+    /* the farm's figures: rank 0's bytes exact past 2^53, the lost rank */
+    CHECK(text && strstr(text, "\"rank0_bytes_in\":\t9007199254740993,"));
+    CHECK(text && strstr(text, "\"lost_ranks\":\t1,"));
+    CHECK(text && strstr(text, "\"lost\":\ttrue"));
     free(text);
 
     /* Without Slurm, no job id at all. */

@@ -1,0 +1,112 @@
+/* ledger.c - rank 0's book of units (see ledger.h). */
+#include "ledger.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "array.h"
+#include "status.h"
+
+static int later_first(const void *a, const void *b)
+{
+    uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
+    return x < y ? 1 : x > y ? -1 : 0;
+}
+
+int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks)
+{
+    memset(L, 0, sizeof *L);
+    L->n = s->n_units;
+    L->ranks = ranks;
+    L->passes = s->passes;
+    size_t n = L->n ? L->n : 1, r = ranks > 0 ? (size_t)ranks : 1;
+    L->state = calloc(n, sizeof *L->state);
+    L->owner = calloc(n, sizeof *L->owner);
+    L->pass = calloc(n, sizeof *L->pass);
+    L->assigned = calloc(r, sizeof *L->assigned);
+    L->held = calloc(r, sizeof *L->held);
+    L->pass_left = calloc(L->passes ? L->passes : 1, sizeof *L->pass_left);
+    if (!L->state || !L->owner || !L->pass || !L->assigned || !L->held || !L->pass_left) {
+        rt_ledger_free(L);
+        return RT_ENOMEM;
+    }
+    /* A unit belongs to the pass whose samples it renders (units never
+     * straddle a pass). */
+    for (uint32_t i = 0, k = 0; i < L->n; i++) {
+        const rt_unit *u = &s->units[i];
+        k = 0;
+        while (k + 1 < L->passes && u->s1 > rt_sched_pass_end(s, k))
+            k++;
+        L->pass[i] = k;
+        L->pass_left[k]++;
+    }
+    return RT_OK;
+}
+
+void rt_ledger_free(rt_ledger *L)
+{
+    free(L->state);
+    free(L->owner);
+    free(L->pass);
+    free(L->requeue);
+    free(L->assigned);
+    free(L->held);
+    free(L->pass_left);
+    memset(L, 0, sizeof *L);
+}
+
+int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u)
+{
+    if (L->n_requeue) {
+        *u = s->units[L->requeue[--L->n_requeue]];
+    } else if (!rt_sched_next(s, u)) {
+        return 0;
+    }
+    L->state[u->id] = RT_UNIT_ASSIGNED;
+    L->owner[u->id] = rank;
+    L->assigned[rank]++;
+    return 1;
+}
+
+int rt_ledger_done(rt_ledger *L, int rank, uint32_t id)
+{
+    if (id >= L->n || L->state[id] != RT_UNIT_ASSIGNED || L->owner[id] != rank)
+        return 0;
+    L->state[id] = RT_UNIT_DONE;
+    L->assigned[rank]--;
+    L->held[rank]++;
+    L->pass_left[L->pass[id]]--;
+    return 1;
+}
+
+int rt_ledger_in(rt_ledger *L, int rank, uint32_t id)
+{
+    if (id >= L->n || L->state[id] != RT_UNIT_DONE || L->owner[id] != rank)
+        return 0;
+    L->state[id] = RT_UNIT_IN;
+    L->held[rank]--;
+    return 1;
+}
+
+uint32_t rt_ledger_lose(rt_ledger *L, int rank)
+{
+    uint32_t back = 0;
+    for (uint32_t i = 0; i < L->n; i++) {
+        if (L->owner[i] != rank || (L->state[i] != RT_UNIT_ASSIGNED && L->state[i] != RT_UNIT_DONE))
+            continue;
+        if (L->state[i] == RT_UNIT_DONE)
+            L->pass_left[L->pass[i]]++;
+        if (rt_array_reserve((void **)&L->requeue, &L->cap_requeue, L->n_requeue + 1, sizeof *L->requeue))
+            return back; /* out of memory: the job cannot finish; the caller sees units left */
+        L->state[i] = RT_UNIT_QUEUED;
+        L->owner[i] = -1;
+        L->requeue[L->n_requeue++] = i;
+        back++;
+    }
+    /* Handed out again in schedule order: the stack's top is the earliest. */
+    qsort(L->requeue, L->n_requeue, sizeof *L->requeue, later_first);
+    L->assigned[rank] = L->held[rank] = 0;
+    return back;
+}
+
+int rt_ledger_pass_done(const rt_ledger *L, uint32_t k) { return k < L->passes && L->pass_left[k] == 0; }

@@ -1,0 +1,52 @@
+/* ledger.h - rank 0's book of who holds which unit: queued, assigned to a
+ * rank, done there (reported, its sums still held by the rank), or in the
+ * image. When a rank is lost, every unit it assigned or held goes back to
+ * the queue, ahead of the units never handed out, and whatever the lost
+ * rank sends later is refused (its owner check fails), so each unit's sums
+ * enter the image exactly once. No MPI, no threads (the caller locks);
+ * tests/unit/test_ledger.c drives it. */
+#ifndef RT_LEDGER_H
+#define RT_LEDGER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "schedule.h"
+
+enum { RT_UNIT_QUEUED, RT_UNIT_ASSIGNED, RT_UNIT_DONE, RT_UNIT_IN };
+
+typedef struct rt_ledger {
+    uint32_t n;        /* units */
+    uint8_t *state;    /* RT_UNIT_* per unit */
+    int32_t *owner;    /* rank per unit (assigned or done) */
+    uint32_t *pass;    /* progressive pass per unit */
+    uint32_t *requeue; /* units given back by lost ranks, handed out first */
+    size_t n_requeue, cap_requeue;
+    int ranks;
+    uint32_t *assigned; /* per rank */
+    uint32_t *held;     /* per rank: done, sums not yet in */
+    uint32_t passes;
+    uint32_t *pass_left; /* per pass: units not yet done */
+} rt_ledger;
+
+/* Every unit of s starts queued. */
+int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks);
+void rt_ledger_free(rt_ledger *L);
+
+/* The next unit for rank: a requeued one, else the schedule's next.
+ * 0 when there is none. */
+int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u);
+/* rank reports unit id done: 1, or 0 when the unit is not assigned to it
+ * (a report of a lost rank, or a bad id). */
+int rt_ledger_done(rt_ledger *L, int rank, uint32_t id);
+/* rank sent the sums of unit id: 1, or 0 when it does not hold them. */
+int rt_ledger_in(rt_ledger *L, int rank, uint32_t id);
+/* rank is lost: its assigned and held units are queued again. Returns how
+ * many. */
+uint32_t rt_ledger_lose(rt_ledger *L, int rank);
+/* Every unit of pass k (0-based) is done or in. */
+int rt_ledger_pass_done(const rt_ledger *L, uint32_t k);
+/* Units waiting to be handed out again. */
+static inline size_t rt_ledger_requeued(const rt_ledger *L) { return L->n_requeue; }
+
+#endif

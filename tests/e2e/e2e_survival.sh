@@ -1,0 +1,55 @@
+#!/bin/bash
+# e2e_survival.sh BIN MPIRUN - a lost rank costs no restart. Under
+# `mpirun --enable-recovery` (Open MPI 4.1 has no ULFM; with it the
+# survivors keep talking), one worker is killed (kill -9) or hung (SIGSTOP)
+# mid-render: rank 0 hears nothing from it for a lease, hands its units to
+# the others, and the job ends by itself with status 0 and the bytes of an
+# uninterrupted run. (Without --enable-recovery mpirun ends the whole job:
+# e2e_resume.sh checks the checkpoint and --resume for that case.)
+BIN=$1 MPIRUN=${2:-}
+source "$(dirname "$0")/../support/lib.sh"
+[ -n "$MPIRUN" ] || { skip "no mpirun"; finish; }
+K=(--width 160 --height 96 -s 2400 -q)
+"$BIN" "${K[@]}" -j 2 --no-checkpoint -o "$WORK/ref.png" >"$WORK/ref.out" 2>&1
+check_eq "reference render" $? 0
+# The same job without a loss, timed as the lossy ones are.
+t0=$(date +%s.%N)
+timeout 120 "$MPIRUN" -np 3 --bind-to none "$BIN" "${K[@]}" -j 1 -o "$WORK/whole.png" >/dev/null 2>&1
+check_eq "the job without a loss" $? 0
+whole=$(echo "$(date +%s.%N) - $t0" | bc)
+
+lose_rank() { # label signal rank
+    local label=$1 sig=$2 rank=$3 out="$WORK/$1.png"
+    local t0 victim=""
+    t0=$(date +%s.%N)
+    timeout 120 "$MPIRUN" --enable-recovery -np 3 --bind-to none "$BIN" "${K[@]}" -j 1 --lease 2 -o "$out" \
+        >"$WORK/$label.out" 2>"$WORK/$label.err" &
+    local pid=$!
+    for ((i = 0; i < 100; i++)); do
+        [ -n "$victim" ] && break
+        sleep 0.1
+        for p in $(pgrep -f -- "-o $out"); do
+            tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$rank" && victim=$p
+        done
+    done
+    [ -n "$victim" ] || { fail "$label: rank $rank not found"; kill $pid; wait $pid; return; }
+    sleep 1.5 # mid-render: the whole job takes about 4 s here
+    kill -"$sig" "$victim"
+    wait $pid
+    local status=$? took
+    took=$(echo "$(date +%s.%N) - $t0" | bc)
+    check_eq "$label: exit status of mpirun" $status 0
+    cmp -s "$out" "$WORK/ref.png" && pass "$label: image identical to the uninterrupted render" ||
+        fail "$label: image differs or is missing"
+    grep -q "rank $rank lost" "$WORK/$label.err" && pass "$label: rank 0 says rank $rank was lost" ||
+        fail "$label: no loss reported: $(grep -m2 rt-mpi "$WORK/$label.err")"
+    grep -q "^lost ranks: *1" "$WORK/$label.out" && pass "$label: the summary counts the lost rank" ||
+        fail "$label: summary: $(grep -m1 lost "$WORK/$label.out")"
+    echo "  $label: ${took} s wall with the loss against ${whole} s without: $(echo "$took - $whole" | bc) s lost (lease 2 s)"
+    [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" || fail "$label: checkpoint left"
+    pgrep -f -- "-o $out" >/dev/null && { fail "$label: processes left behind"; pkill -9 -f -- "-o $out"; } ||
+        pass "$label: no process left behind"
+}
+lose_rank kill9 KILL 1
+lose_rank hung STOP 2
+finish

@@ -1,0 +1,99 @@
+/* test_ledger.c - rank 0's book of units: each unit is handed out once,
+ * reported and taken in only by its owner, a lost rank's units (assigned
+ * or done) are handed out again before new ones and in schedule order,
+ * its later words are refused, passes finish when their units are done. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "ledger.h"
+#include "status.h"
+
+int main(void)
+{
+    rt_job job = {8, 20, 12, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0};
+    rt_sched_params p = {2, 4, 3, 8, 1, 3}; /* bands of 2 rows, 3 ranks, 3 passes */
+    rt_sched s;
+    CHECK_EQ_INT(rt_sched_init(&s, &job, &p, NULL), RT_OK);
+    rt_ledger L;
+    CHECK_EQ_INT(rt_ledger_init(&L, &s, 3), RT_OK);
+    const uint32_t n = s.n_units;
+    CHECK(n >= 30);
+    /* Passes: units of pass k render samples up to its end, and together
+     * every unit. */
+    uint32_t in_passes = 0;
+    for (uint32_t k = 0; k < L.passes; k++)
+        in_passes += L.pass_left[k];
+    CHECK_EQ_INT(in_passes, n);
+    int pass_ok = 1;
+    for (uint32_t i = 0; i < n; i++)
+        pass_ok &= s.units[i].s1 <= rt_sched_pass_end(&s, L.pass[i]) &&
+                   (L.pass[i] == 0 || s.units[i].s0 >= rt_sched_pass_end(&s, L.pass[i] - 1));
+    CHECK(pass_ok);
+
+    /* Rank 1 takes 4, rank 2 takes 3; reports and sums only by the owner. */
+    rt_unit a[4], b[3], u;
+    for (int k = 0; k < 4; k++)
+        CHECK(rt_ledger_take(&L, &s, 1, &a[k]));
+    for (int k = 0; k < 3; k++)
+        CHECK(rt_ledger_take(&L, &s, 2, &b[k]));
+    CHECK_EQ_INT(L.assigned[1], 4);
+    CHECK_EQ_INT(rt_ledger_done(&L, 2, a[0].id), 0); /* not rank 2's */
+    CHECK_EQ_INT(rt_ledger_done(&L, 1, a[0].id), 1);
+    CHECK_EQ_INT(rt_ledger_done(&L, 1, a[0].id), 0); /* twice */
+    CHECK_EQ_INT(rt_ledger_in(&L, 1, a[1].id), 0);   /* not done yet */
+    CHECK_EQ_INT(rt_ledger_done(&L, 1, a[1].id), 1);
+    CHECK_EQ_INT(rt_ledger_in(&L, 1, a[1].id), 1);
+    CHECK_EQ_INT(rt_ledger_done(&L, 1, 99999), 0);   /* no such unit */
+    CHECK_EQ_INT(L.held[1], 1);                     /* a[0]: done, sums still on rank 1 */
+
+    /* Rank 1 is lost: a[0] (done, not in), a[2], a[3] (assigned) come back;
+     * a[1] is in the image and stays. */
+    CHECK_EQ_INT(rt_ledger_lose(&L, 1), 3);
+    CHECK_EQ_INT(L.assigned[1] + L.held[1], 0);
+    CHECK_EQ_INT(rt_ledger_in(&L, 1, a[0].id), 0);   /* its late sums are refused */
+    CHECK_EQ_INT(rt_ledger_done(&L, 1, a[2].id), 0); /* and its late reports */
+    /* Handed out again first, in schedule order, to whoever asks. */
+    CHECK(rt_ledger_take(&L, &s, 2, &u));
+    CHECK_EQ_INT(u.id, a[0].id);
+    CHECK(rt_ledger_take(&L, &s, 2, &u));
+    CHECK_EQ_INT(u.id, a[2].id);
+    CHECK(rt_ledger_take(&L, &s, 0, &u));
+    CHECK_EQ_INT(u.id, a[3].id);
+    CHECK(rt_ledger_take(&L, &s, 0, &u));
+    CHECK_EQ_INT(u.id, b[2].id + 1); /* then the schedule goes on */
+
+    /* Everything else done and in, by rank 2 and rank 0: each unit once. */
+    rt_ledger_free(&L);
+    rt_sched_free(&s);
+    CHECK_EQ_INT(rt_sched_init(&s, &job, &p, NULL), RT_OK);
+    CHECK_EQ_INT(rt_ledger_init(&L, &s, 3), RT_OK);
+    uint32_t *seen = calloc(n, sizeof *seen), taken = 0;
+    int rank = 0, passes_seen_in_order = 1;
+    while (rt_ledger_take(&L, &s, rank, &u)) {
+        seen[u.id]++;
+        taken++;
+        CHECK(rt_ledger_done(&L, rank, u.id));
+        if (taken == n / 2)
+            rt_ledger_lose(&L, rank); /* one more loss midway: its units come back */
+        else
+            CHECK(rt_ledger_in(&L, rank, u.id));
+        for (uint32_t k = 0; k + 1 < L.passes; k++)
+            passes_seen_in_order &= !rt_ledger_pass_done(&L, k + 1) || rt_ledger_pass_done(&L, k);
+        rank = (rank + 1) % 3;
+    }
+    int once = 1, extra = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        once &= seen[i] >= 1;
+        extra += seen[i] - 1;
+        CHECK_EQ_INT(L.state[i], RT_UNIT_IN);
+    }
+    CHECK(once);
+    CHECK(extra >= 1); /* the lost units were handed out again */
+    CHECK(passes_seen_in_order);
+    for (uint32_t k = 0; k < L.passes; k++)
+        CHECK(rt_ledger_pass_done(&L, k));
+    free(seen);
+    rt_ledger_free(&L);
+    rt_sched_free(&s);
+    CHECK_DONE();
+}
