@@ -34,6 +34,15 @@ typedef struct peer {
     int bye, stopped;
 } peer;
 
+/* A message on its way to a worker: rank 0 never blocks in a send. Over
+ * TCP a send to a rank that died can wait forever for its connection (seen
+ * on the test cluster); the lease finds the rank lost meanwhile, and its
+ * sends are left to MPI_Abort. */
+typedef struct outgoing {
+    MPI_Request req;
+    void *buf;
+} outgoing;
+
 typedef struct server {
     rt_farm *f;
     rt_root *R;
@@ -48,7 +57,48 @@ typedef struct server {
     double next_flush; /* when to ask for sums ahead of the next checkpoint */
     uint32_t pass_asked; /* passes whose sums were asked for */
     int finishing;       /* FINISH sent */
+    outgoing *outbox;    /* sends not yet complete */
+    size_t n_outbox, cap_outbox;
 } server;
+
+/* Starts a send of count elements of size bytes to r (buf is copied);
+ * MPI's status. */
+static int post(server *s, int r, int tag, MPI_Datatype type, const void *buf, int count, size_t size)
+{
+    void *copy = count ? malloc((size_t)count * size) : NULL;
+    if ((count && !copy) ||
+        rt_array_reserve((void **)&s->outbox, &s->cap_outbox, s->n_outbox + 1, sizeof *s->outbox)) {
+        free(copy);
+        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+    }
+    if (count)
+        memcpy(copy, buf, (size_t)count * size);
+    outgoing *o = &s->outbox[s->n_outbox];
+    o->buf = copy;
+    int rc = MPI_Isend(copy, count, type, r, tag, MPI_COMM_WORLD, &o->req);
+    if (rc != MPI_SUCCESS) {
+        free(copy);
+        return rc;
+    }
+    s->n_outbox++;
+    return MPI_SUCCESS;
+}
+
+/* Frees the sends that completed. */
+static void reap(server *s)
+{
+    for (size_t i = 0; i < s->n_outbox;) {
+        int done = 0;
+        if (MPI_Test(&s->outbox[i].req, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS)
+            done = 0; /* an error: the lease decides about its rank */
+        if (done) {
+            free(s->outbox[i].buf);
+            s->outbox[i] = s->outbox[--s->n_outbox];
+        } else {
+            i++;
+        }
+    }
+}
 
 static void lose(server *s, int r, const char *why);
 
@@ -67,7 +117,7 @@ static void serve_peer(server *s, int r)
     }
     if (n) {
         p->idle_sent = 0;
-        if (MPI_Send(s->out, (int)(n * RT_MSG_UNIT), MPI_UINT32_T, r, RT_TAG_UNITS, MPI_COMM_WORLD) != MPI_SUCCESS)
+        if (post(s, r, RT_TAG_UNITS, MPI_UINT32_T, s->out, (int)(n * RT_MSG_UNIT), sizeof *s->out) != MPI_SUCCESS)
             lose(s, r, "sending it units failed");
         return;
     }
@@ -76,7 +126,7 @@ static void serve_peer(server *s, int r)
     pthread_mutex_unlock(&s->R->mu);
     if (p->alive && none && !p->idle_sent && !s->finishing) {
         p->idle_sent = 1;
-        if (rt_msg_signal(r, RT_TAG_IDLE) != MPI_SUCCESS)
+        if (post(s, r, RT_TAG_IDLE, MPI_BYTE, NULL, 0, 1) != MPI_SUCCESS)
             lose(s, r, "sending to it failed");
     }
 }
@@ -117,7 +167,7 @@ static void ask_sums(server *s)
         pthread_mutex_lock(&s->R->mu);
         int held = s->R->led.held[r] > 0;
         pthread_mutex_unlock(&s->R->mu);
-        if (s->peers[r].alive && held && rt_msg_signal(r, RT_TAG_FLUSH) != MPI_SUCCESS)
+        if (s->peers[r].alive && held && post(s, r, RT_TAG_FLUSH, MPI_BYTE, NULL, 0, 1) != MPI_SUCCESS)
             lose(s, r, "sending to it failed");
     }
 }
@@ -310,7 +360,7 @@ static void stop_workers(server *s)
 {
     rt_root_save_now(s->R);
     for (int r = 1; r < s->f->size; r++)
-        if (s->peers[r].alive && rt_msg_signal(r, RT_TAG_STOP) != MPI_SUCCESS)
+        if (s->peers[r].alive && post(s, r, RT_TAG_STOP, MPI_BYTE, NULL, 0, 1) != MPI_SUCCESS)
             lose(s, r, "sending to it failed");
     double deadline = rt_now() + (s->lease < 1 ? s->lease : 1);
     int idle = 0;
@@ -346,7 +396,10 @@ static double thread_cpu(void)
 
 void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
 {
-    server s = {f, R, res, calloc((size_t)f->size, sizeof(peer)), NULL, 0, NULL, 0, 0, 0, 0, 0, 0};
+    server s;
+    memset(&s, 0, sizeof s);
+    s.f = f, s.R = R, s.res = res;
+    s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
         rt_farm_fail(f, 1, "out of memory on rank 0");
     s.lease = R->job->lease > 0 ? R->job->lease : 5.0;
@@ -375,17 +428,28 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
             for (int r = 1; r < f->size; r++) {
                 int32_t lost = res->lost;
                 if (s.peers[r].alive &&
-                    MPI_Send(&lost, 1, MPI_INT32_T, r, RT_TAG_FINISH, MPI_COMM_WORLD) != MPI_SUCCESS)
+                    post(&s, r, RT_TAG_FINISH, MPI_INT32_T, &lost, 1, sizeof lost) != MPI_SUCCESS)
                     lose(&s, r, "sending to it failed");
             }
         }
         if (complete && all_alive(&s, 1))
             break;
         check_leases(&s);
+        reap(&s);
         poll_once(&s, &idle);
     }
+    /* The sends to live ranks complete (they took their last message);
+     * those to lost ranks are left to MPI_Abort (rt_farm_finalize). */
+    reap(&s);
+    for (size_t i = 0; i < s.n_outbox && !res->lost; i++)
+        MPI_Wait(&s.outbox[i].req, MPI_STATUS_IGNORE);
     f->lost = res->lost;
     res->serve_cpu = thread_cpu() - cpu0;
+    if (!res->lost) {
+        for (size_t i = 0; i < s.n_outbox; i++)
+            free(s.outbox[i].buf);
+        free(s.outbox);
+    }
     free(s.peers);
     free(s.buf);
     free(s.out);

@@ -11,6 +11,9 @@
 #   losthost  every process on one host killed mid-render: the job ends
 #             within seconds; exit 0 with the image, or a checkpoint from
 #             which --resume (on the hosts left) gives the image
+#   lostsurvive  every rank on one host killed mid-render under mpirun
+#             --enable-recovery (--lease 2): the survivors finish by
+#             themselves, exit 0, the same bytes
 #   slurm     slurmctld + a slurmd per host: scripts/slurm/rt-mpi.sbatch with
 #             sbatch -N 3 (srun --mpi=pmix, and mpirun in the allocation); a
 #             job signalled as before its time limit requeues itself and
@@ -19,7 +22,7 @@
 # a failure instead when RT_REQUIRE_ALL=1, as in scripts/test.sh).
 CASE=${1:-} BIN=${2:-} SERIAL=${3:-}
 if [[ -z $CASE || ! -x $BIN || ! -x $SERIAL ]]; then
-    echo "usage: $0 hostfile|mixed|badnet|losthost|slurm RT_MPI_BINARY RT_MPI_SERIAL_BINARY" >&2
+    echo "usage: $0 hostfile|mixed|badnet|losthost|lostsurvive|slurm RT_MPI_BINARY RT_MPI_SERIAL_BINARY" >&2
     exit 2
 fi
 BIN=$(readlink -f "$BIN") SERIAL=$(readlink -f "$SERIAL")
@@ -167,28 +170,73 @@ badnet)
         "(x$(awk -v a="$t_clean" -v b="$t_bad" 'BEGIN {printf "%.2f", b / a}'))"
     ;;
 
-losthost)
+losthost | lostsurvive)
+    # lostsurvive: the same under mpirun --enable-recovery, where the
+    # survivors must finish by themselves (exit 0, the same bytes).
+    RECOVER=() LEASE=()
+    [[ $CASE == lostsurvive ]] && RECOVER=(--enable-recovery) LEASE=(--lease 2)
     hf=$(hostfile six "n1 slots=2" "n2 slots=2" "n3 slots=2")
     LIMIT=${RT_CLUSTER_LOST_LIMIT:-30}
     # Long enough that n3 dies mid-render (a job of about 4 s on 2 cores); a
     # checkpoint every second.
     LONG=(--width 160 --height 100 -s 1500 -q)
     out=$WORK/lost.png
-    cmpirun 300 "$hf" -np 6 "$BIN" "${LONG[@]}" -j 1 -o "$out" --checkpoint-interval 1 >"$WORK/lost.out" 2>&1 &
+    cmpirun 300 "$hf" "${RECOVER[@]}" -np 6 "$BIN" "${LONG[@]}" "${LEASE[@]}" -j 1 -o "$out" --checkpoint-interval 1 \
+        >"$WORK/lost.out" 2>&1 &
     job=$!
     for ((i = 0; i < 300; i++)); do [[ -s $out.ckpt ]] && break; sleep 0.1; done
     [[ -s $out.ckpt ]] || fail "no checkpoint within 30 s of the start"
     sleep 1
-    victims=$(ip netns pids "$(cat "$RT_CLUSTER/hosts/n3.net")" | wc -l)
     t=$(now)
-    cluster_kill n3 KILL
-    note "killed the $victims processes on n3 (orted and its ranks)"
+    if [[ $CASE == lostsurvive ]]; then
+        # The ranks only: Open MPI 4.1's mpirun aborts the job when it loses
+        # an orted, --enable-recovery or not ("ORTE was unable to reliably
+        # start one or more daemons"), so a whole host is not survivable
+        # with it (losthost); a host's ranks dying (crash, OOM killer) is.
+        victims=0
+        for p in $(ip netns pids "$(cat "$RT_CLUSTER/hosts/n3.net")"); do
+            [[ $(cat "/proc/$p/comm" 2>/dev/null) == rt-mpi ]] && kill -KILL "$p" && victims=$((victims + 1))
+        done
+        note "killed the $victims rt-mpi ranks on n3 (its orted lives)"
+        ((victims == 2)) || fail "n3 ran $victims ranks, not 2"
+    else
+        victims=$(ip netns pids "$(cat "$RT_CLUSTER/hosts/n3.net")" | wc -l)
+        cluster_kill n3 KILL
+        note "killed the $victims processes on n3 (orted and its ranks)"
+    fi
     ended=""
     for ((i = 0; i < LIMIT * 10; i++)); do
         kill -0 "$job" 2>/dev/null || { ended=1; break; }
+        # lostsurvive: the render is done when the image is there; mpirun
+        # itself may not end (below)
+        [[ $CASE == lostsurvive && -s $out && ! -e $out.ckpt ]] && break
         sleep 0.1
     done
     took=$(secs "$t" "$(now)")
+    if [[ $CASE == lostsurvive && -z $ended && -s $out ]]; then
+        pass "the survivors finished the image ${took} s after n3's ranks were lost"
+        grep -q "^lost ranks: *2" "$WORK/lost.out" && pass "the summary counts n3's 2 ranks lost" ||
+            fail "lost ranks: $(grep -m1 lost "$WORK/lost.out")"
+        "$SERIAL" "${LONG[@]}" --no-checkpoint -j 2 -o "$WORK/ref-long.png" >/dev/null
+        REF=$WORK/ref-long.png
+        same_image "lost ranks, finished by the survivors" "$out"
+        # Known limit of Open MPI 4.1 across hosts: rank 0's MPI_Abort(.., 0)
+        # after the image ends a one-host job (e2e_survival), but here
+        # mpirun fails in its own help output ("ORTE_ERROR_LOG: Out of
+        # resource in show_help.c") and does not exit. Said, not passed.
+        for ((i = 0; i < 100; i++)); do kill -0 "$job" 2>/dev/null || { ended=1; break; }; sleep 0.1; done
+        if [[ -n $ended ]]; then
+            wait "$job"
+            note "mpirun ended by itself (exit $?)"
+        else
+            note "KNOWN LIMIT: mpirun did not end 10 s after the image (Open MPI 4.1 ORTE across hosts); ending it"
+            cluster_kill n1 KILL
+            cluster_kill n2 KILL
+            cluster_kill n3 KILL
+            wait "$job"
+        fi
+        finish
+    fi
     if [[ -z $ended ]]; then
         fail "the job did not end within $LIMIT s of losing n3 (a hang)"
         cluster_kill n1 KILL
@@ -205,6 +253,11 @@ losthost)
     if ((rc == 0)); then
         note "outcome: the survivors finished the render by themselves"
         same_image "lost host, finished by the survivors" "$out"
+        grep -q "^lost ranks: *2" "$WORK/lost.out" && pass "the summary counts n3's 2 ranks lost" ||
+            fail "lost ranks: $(grep -m1 lost "$WORK/lost.out")"
+    elif [[ $CASE == lostsurvive ]]; then
+        fail "under --enable-recovery the job must finish by itself: exit $rc"
+        show "$WORK/lost.out"
     elif [[ -s $out.ckpt ]]; then
         note "outcome: exit $rc with a checkpoint; resuming on n1 and n2"
         show "$WORK/lost.out" | grep -m 3 -E 'rt-mpi|checkpoint'
