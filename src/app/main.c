@@ -69,8 +69,11 @@ int main(int argc, char **argv)
     /* 3. Checks before anything renders: rank 0 checks paths, memory and
      * checkpoint; every rank its threads. Then the scene: built on rank 0,
      * broadcast to all. A bad input ends every rank with one line. */
-    int code = action == RT_CLI_ERROR ? RT_EXIT_USAGE : rt_run_check(&run, err, sizeof err);
-    rt_farm_bcast_int(&run.farm, &code);
+    int code = action == RT_CLI_ERROR ? RT_EXIT_USAGE : rt_run_check(&run, err, sizeof err), root_code;
+    int mine = code;
+    code = rt_farm_agree(&run.farm, code, &root_code);
+    if (mine && !root_code && err[0]) /* this rank alone: its own line */
+        fprintf(stderr, "rt-mpi: error: rank %d: %s\n", run.farm.rank, err);
     if (!code)
         code = rt_run_scene(&run, err, sizeof err);
     if (code)

@@ -126,6 +126,11 @@ void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...) __attribute_
 void rt_farm_exit(const rt_farm *f, int code) __attribute__((noreturn));
 
 void rt_farm_bcast_int(const rt_farm *f, int *v);
+/* Every rank's verdict before the render (an exit code, 0 for none):
+ * returns the largest, and *root gets rank 0's. Collective. So a setting
+ * only one node has wrong (its RT_ACCEL, its OMP_NUM_THREADS) stops the job
+ * with that rank's own message, not a later failure elsewhere. */
+int rt_farm_agree(const rt_farm *f, int mine, int *root);
 int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len);
 
 /* Threads for -j 0: the cores of this rank's affinity mask, divided among

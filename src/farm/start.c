@@ -162,6 +162,23 @@ void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...)
     exit(code);
 }
 
+int rt_farm_agree(const rt_farm *f, int mine, int *root)
+{
+    *root = mine;
+#ifdef RT_HAVE_MPI
+    if (f->mpi && f->size > 1) {
+        int worst = mine;
+        if (MPI_Allreduce(&mine, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS ||
+            MPI_Bcast(root, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
+            rt_farm_fail(f, 1, "MPI_Allreduce failed");
+        return worst;
+    }
+#else
+    (void)f;
+#endif
+    return mine;
+}
+
 void rt_farm_bcast_int(const rt_farm *f, int *v)
 {
 #ifdef RT_HAVE_MPI

@@ -66,6 +66,14 @@ if [ -n "$MPIRUN" ]; then
     n=$(grep -c "rt-mpi: error:" "$WORK/e.txt")
     [ $status -eq 2 ] && [ "$n" -eq 1 ] && pass "under mpirun -np 2: status 2, one message" ||
         fail "under mpirun: status $status, $n messages: $(head -c 300 "$WORK/e.txt")"
+    # A setting only one node has wrong (here rank 1's RT_ACCEL) stops the
+    # job with that rank's own line, before anything renders.
+    mpirun_np 2 sh -c '[ "$OMPI_COMM_WORLD_RANK" = 1 ] && export RT_ACCEL=bogus; exec "$0" "$@"' \
+        "$BIN" --width 32 -s 2 -o "$WORK/acc.png" --no-checkpoint >"$WORK/o.txt" 2>"$WORK/e.txt"
+    status=$?
+    [ $status -eq 2 ] && grep -q "^rt-mpi: error: rank 1: RT_ACCEL='bogus'" "$WORK/e.txt" && [ ! -e "$WORK/acc.png" ] &&
+        pass "one rank's bad RT_ACCEL: status 2, its own message" ||
+        fail "one rank's bad RT_ACCEL: status $status: $(grep -m2 rt-mpi "$WORK/e.txt")"
 fi
 chmod 755 "$WORK/ro"
 finish
