@@ -420,6 +420,43 @@ static int check_features(const rt_options *o, const char *positional, char *err
     return RT_OK;
 }
 
+/* The options of a render, once all are read: the defaults that depend on
+ * others (height, roulette) and the combinations that make no sense. 0, or
+ * RT_EINVAL with err filled. */
+static int settle_run(rt_options *o, char *err, size_t errlen)
+{
+    if (!o->job.height) { /* not given (--height is at least 1) */
+        o->job.height = (uint32_t)((double)o->job.width / 1.5);
+        if (o->job.height == 0) {
+            snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->job.width);
+            return RT_EINVAL;
+        }
+    }
+    if (o->roulette && o->no_roulette) {
+        snprintf(err, errlen, "--roulette and --no-roulette: give one or the other");
+        return RT_EINVAL;
+    }
+    o->job.roulette = o->roulette || (!o->no_roulette && o->job.sampler == RT_SAMPLER_SOBOL);
+    if (o->no_checkpoint && (o->resume || o->checkpoint)) {
+        snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
+        return RT_EINVAL;
+    }
+    if (o->preview && o->passes < 2) {
+        snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
+        return RT_EINVAL;
+    }
+    if (o->passes > o->job.samples) {
+        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->job.samples);
+        return RT_EINVAL;
+    }
+    if ((uint64_t)o->job.width * o->job.height > MAX_PIXELS) {
+        snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->job.width, o->job.height,
+                 (unsigned long long)MAX_PIXELS);
+        return RT_EINVAL;
+    }
+    return RT_OK;
+}
+
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)
 {
     rt_cli_action action = RT_CLI_RUN;
@@ -513,36 +550,7 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         o->scene = "final";
     if (o->dump_scene) /* nothing renders: the render's options do not matter */
         return RT_CLI_DUMP_SCENE;
-    if (!o->job.height) { /* not given (--height is at least 1) */
-        o->job.height = (uint32_t)((double)o->job.width / 1.5);
-        if (o->job.height == 0) {
-            snprintf(err, errlen, "--width: %u gives a height of 0 (width / 1.5); give --height", o->job.width);
-            return RT_CLI_ERROR;
-        }
-    }
-    if (o->roulette && o->no_roulette) {
-        snprintf(err, errlen, "--roulette and --no-roulette: give one or the other");
-        return RT_CLI_ERROR;
-    }
-    o->job.roulette = o->roulette || (!o->no_roulette && o->job.sampler == RT_SAMPLER_SOBOL);
-    if (o->no_checkpoint && (o->resume || o->checkpoint)) {
-        snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
-        return RT_CLI_ERROR;
-    }
-    if (o->preview && o->passes < 2) {
-        snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
-        return RT_CLI_ERROR;
-    }
-    if (o->passes > o->job.samples) {
-        snprintf(err, errlen, "--passes: %u passes need at least as many samples (-s %u)", o->passes, o->job.samples);
-        return RT_CLI_ERROR;
-    }
-    if ((uint64_t)o->job.width * o->job.height > MAX_PIXELS) {
-        snprintf(err, errlen, "image of %u x %u pixels is too large (at most %llu pixels)", o->job.width, o->job.height,
-                 (unsigned long long)MAX_PIXELS);
-        return RT_CLI_ERROR;
-    }
-    return RT_CLI_RUN;
+    return settle_run(o, err, errlen) ? RT_CLI_ERROR : RT_CLI_RUN;
 }
 
 /* The file can be created: a file name, in a writable directory. */
