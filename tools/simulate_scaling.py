@@ -188,7 +188,7 @@ class Model:
     def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
                  prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
                  band=0, probe_miss=1, passes=1, worker_overhead=0.0, farm="v2", per_rank=8,
-                 flush_interval=1.0, flush_bytes=64 << 20, lease=5.0, pack_byte=0.0):
+                 flush_interval=1.0, flush_bytes=64 << 20, lease=5.0, pack_byte=0.0, reports_first=False):
         self.T = threads
         self.L = latency
         self.B = bandwidth
@@ -208,6 +208,7 @@ class Model:
         self.flush_bytes = flush_bytes
         self.lease = lease
         self.pack_byte = pack_byte
+        self.reports_first = reports_first  # not built: rank 0 takes reports before sums
 
     def result_service(self, nbytes):
         return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
@@ -548,6 +549,7 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
         pass_left[k] += 1
     pass_asked = [0]
     inbox = deque()
+    sums_box = deque() if m.reports_first else inbox
     s_idle_since = [0.0]
     s_scheduled = [False]
 
@@ -627,16 +629,16 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
             if i is not None:
                 push(t + cost[i], "local_end", 0, i)
         elif kind == "arrive":
-            inbox.append(data)
+            (sums_box if data[0] == "sums" else inbox).append(data)
             if not s_scheduled[0]:
                 s_scheduled[0] = True
                 push(m.next_poll(s_idle_since[0], t), "serve", 0)
         elif kind == "serve":
-            if not inbox:
+            if not inbox and not sums_box:
                 s_scheduled[0] = False
                 s_idle_since[0] = t
                 continue
-            msg = inbox.popleft()
+            msg = inbox.popleft() if inbox else sums_box.popleft()
             typ, r = msg[0], msg[1]
             st["messages"] += 1
             if typ == "hello":
@@ -741,7 +743,7 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
                     w_last_sent[r] = t
                 push(w_last_sent[r] + beat, "w_beat", r)
         # the end: rank 0 holds every sum
-        if st["complete"] is not None and not inbox:
+        if st["complete"] is not None and not inbox and not sums_box:
             break
     assert st["in"] == n, (st["in"], n)
     makespan = st["complete"]
@@ -911,7 +913,9 @@ def compare(job, m, args):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--trace", help="rt-mpi --trace file of a real run (unit costs)")
+    ap.add_argument("--trace", nargs="+", help="rt-mpi --trace file of a real run (unit costs); several runs of "
+                    "one job: each row's cost is its cheapest (a unit that other work on the machine preempted "
+                    "looks dearer than it is)")
     ap.add_argument("--empty-units", action="store_true",
                     help="units cost nothing (as rt-mpi --empty-units): the farm's own rate; needs --width, "
                          "--height, --samples instead of a trace")
@@ -933,6 +937,9 @@ def main(argv=None):
     ap.add_argument("--lease", type=float, default=5.0, help="v2: lease, s; an idle worker beats every lease/4 [5]")
     ap.add_argument("--pack-byte", type=float, default=V2_PACK,
                     help="v2: a worker's seconds per byte to pack a flush [%g, measured]" % V2_PACK)
+    ap.add_argument("--reports-first", action="store_true",
+                    help="v2, not built: rank 0 takes hellos, reports and beats before sums (probing their tags "
+                         "first), so a burst of flushes does not hold up the next units")
     ap.add_argument("--units-per-rank", type=int, default=8,
                     help="v2: the schedule's target units per rank (src/core/schedule.c: 8) [8]")
     ap.add_argument("--network", choices=sorted(NETWORKS), default="ib",
@@ -995,10 +1002,12 @@ def main(argv=None):
         th, ts = args.height, args.samples
         profile = [0.0] * th
     else:
-        events = load_trace(args.trace)
+        events = load_trace(args.trace[0])
         th = stats.get("height") or max(e["y1"] for e in events)
         ts = stats.get("samples") or max(e["s1"] for e in events)
         profile = cost_profile(events, tw, tt, th)
+        for path in args.trace[1:]:
+            profile = [min(x, y) for x, y in zip(profile, cost_profile(load_trace(path), tw, tt, th))]
     W = args.width or tw
     H = args.height or th
     S = args.samples or ts
@@ -1014,6 +1023,9 @@ def main(argv=None):
         with open(args.service_json) as f:
             sj = json.load(f)
         if args.farm == "v1":
+            if "service_msg_s" not in sj:
+                ap.error("%s holds v2 costs (per message and byte): give --farm v1 its costs per result "
+                         "(--service-msg, --service-byte)" % args.service_json)
             smsg, sbyte = sj["service_msg_s"], sj["service_byte_s"]
         else:
             smsg, sbyte = sj["msg_s"], sj["byte_s"]
@@ -1026,7 +1038,8 @@ def main(argv=None):
               slowdown=args.slowdown, serve_only=args.serve_only, band=args.band,
               probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead,
               farm=args.farm, per_rank=args.units_per_rank, flush_interval=args.flush_interval,
-              flush_bytes=args.flush_mb * 2 ** 20, lease=args.lease, pack_byte=args.pack_byte)
+              flush_bytes=args.flush_mb * 2 ** 20, lease=args.lease, pack_byte=args.pack_byte,
+              reports_first=args.reports_first)
     if args.compare:
         return compare(job, m, args)
     if not args.policies:
@@ -1037,7 +1050,7 @@ def main(argv=None):
             ap.error("unknown policy %r (static, bands, split%s)" % (p, "" if args.farm == "v1" else ", affinity"))
 
     out = {"job": {"width": W, "height": H, "samples": S, "cost_thread_seconds": job.total},
-           "trace": {"file": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
+           "trace": {"files": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
                      "units": len(events)},
            "model": {"threads": m.T, "latency_s": m.L, "bandwidth_Bps": None if m.B == math.inf else m.B,
                      "service_msg_s": m.a, "service_byte_s": m.b, "prefetch": m.prefetch,
@@ -1046,6 +1059,7 @@ def main(argv=None):
                      "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead,
                      "farm": m.farm, "units_per_rank": m.per_rank, "flush_interval_s": m.flush_interval,
                      "flush_bytes": m.flush_bytes, "lease_s": m.lease, "pack_byte_s": m.pack_byte,
+                     "reports_first": m.reports_first,
                      "setup_s": args.setup, "startup_s": args.startup, "write_s": args.write},
            "results": []}
     if not args.quiet:
@@ -1054,7 +1068,7 @@ def main(argv=None):
             print("job %dx%d, %d spp, empty units (no rendering: the farm's own rate)" % (W, H, S))
         else:
             print("job %dx%d, %d spp: %.1f thread-seconds (profile from %s: %dx%d, %d spp, %d thread%s, %d units)"
-                  % (W, H, S, job.total, args.trace, tw, th, ts, tt, "s" if tt > 1 else "", len(events)))
+                  % (W, H, S, job.total, " ".join(args.trace), tw, th, ts, tt, "s" if tt > 1 else "", len(events)))
         print("model: %d threads/rank, latency %.3g us, bandwidth %s, rank 0 service %.3g us/msg + %.3g ns/byte, "
               "prefetch %d, naps %.0f us..%.0f us +%.0f us, probe miss %d%s%s"
               % (m.T, m.L * 1e6, bw_s, m.a * 1e6, m.b * 1e9, m.prefetch, m.nap_base * 1e6, m.nap_cap * 1e6,
