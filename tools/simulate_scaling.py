@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """simulate_scaling.py - predicts how rt-mpi scales, by replaying measured
 work-unit costs on N ranks x T threads in a deterministic discrete-event
-simulation of the farm (src/farm.c) and its schedule (src/schedule.c).
+simulation of the farm (src/farm/) and its schedule (src/core/schedule.c).
 
   simulate_scaling.py --trace TRACE.json [--stats STATS.json]
                       [--width W --height H --samples S] [--threads T]
@@ -18,7 +18,26 @@ cost/T seconds (perfect OpenMP scaling inside a rank: the pixels of a unit
 are spread over the threads in chunks of 8), times --slowdown (ranks that
 share cores, as in an oversubscribed test run).
 
-Machine model (every number is an option; see docs/SCALING.md):
+The farm as built (--farm v2, the default; src/farm/ since df446ae):
+  - a worker's HELLO asks for --prefetch units; each unit done is a 32-byte
+    REPORT, also its request for the next; rank 0 answers with UNITS;
+  - a worker keeps the sums (held.c): a unit extends a held piece of the
+    same rows whose samples end where it starts; one that shares rows
+    without extending seals the store (sent at once, a message of its own);
+  - it sends what it holds, one SUMS message per store (40 + 8 ids + rows x
+    width x 24 bytes a piece), when rank 0 says IDLE (nothing left for it)
+    or FLUSH (a progressive pass done), every --flush-interval, at
+    --flush-mb; an idle worker beats every lease/4;
+  - rank 0 handles one message at a time: --service-msg + bytes x
+    (--service-byte + 1/bandwidth); a worker packs a flush at --pack-byte;
+  - the makespan ends when rank 0 holds every sum; the final combination
+    is the time from the last report to the last sums.
+  Policy "affinity" (not built): a rank continues the band whose sample
+  ranges it was last given. --reports-first (not built): rank 0 reads
+  reports before sums.
+
+The farm before df446ae (--farm v1; docs/notes/scaling-v1.md), every
+number an option:
   - each message takes --latency seconds from sender to receiver;
   - rank 0 handles one message at a time (one MPI thread that polls and naps):
     a result of B bytes (rows*width*3*8 + 32) occupies it for
