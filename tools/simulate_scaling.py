@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """simulate_scaling.py - predicts how rt-mpi scales, by replaying measured
 work-unit costs on N ranks x T threads in a deterministic discrete-event
-simulation of the farm (src/farm.c) and its schedule (src/schedule.c).
+simulation of the farm (src/farm/) and its schedule (src/core/schedule.c).
 
   simulate_scaling.py --trace TRACE.json [--stats STATS.json]
                       [--width W --height H --samples S] [--threads T]
@@ -18,7 +18,26 @@ cost/T seconds (perfect OpenMP scaling inside a rank: the pixels of a unit
 are spread over the threads in chunks of 8), times --slowdown (ranks that
 share cores, as in an oversubscribed test run).
 
-Machine model (every number is an option; see docs/SCALING.md):
+The farm as built (--farm v2, the default; src/farm/ since df446ae):
+  - a worker's HELLO asks for --prefetch units; each unit done is a 32-byte
+    REPORT, also its request for the next; rank 0 answers with UNITS;
+  - a worker keeps the sums (held.c): a unit extends a held piece of the
+    same rows whose samples end where it starts; one that shares rows
+    without extending seals the store (sent at once, a message of its own);
+  - it sends what it holds, one SUMS message per store (40 + 8 ids + rows x
+    width x 24 bytes a piece), when rank 0 says IDLE (nothing left for it)
+    or FLUSH (a progressive pass done), every --flush-interval, at
+    --flush-mb; an idle worker beats every lease/4;
+  - rank 0 handles one message at a time: --service-msg + bytes x
+    (--service-byte + 1/bandwidth); a worker packs a flush at --pack-byte;
+  - the makespan ends when rank 0 holds every sum; the final combination
+    is the time from the last report to the last sums.
+  Policy "affinity" (not built): a rank continues the band whose sample
+  ranges it was last given. --reports-first (not built): rank 0 reads
+  reports before sums.
+
+The farm before df446ae (--farm v1; docs/notes/scaling-v1.md), every
+number an option:
   - each message takes --latency seconds from sender to receiver;
   - rank 0 handles one message at a time (one MPI thread that polls and naps):
     a result of B bytes (rows*width*3*8 + 32) occupies it for
@@ -54,6 +73,13 @@ import sys
 from collections import deque
 
 HDR_BYTES = 4 * 8  # result header: unit, segments, start, end (int64)
+
+# rank 0's cost per message and per byte received in the farm as built (v2),
+# fitted by validate_scaling.sh on the project's 2-core box (serve CPU
+# seconds of --empty-units --serve-only runs); see docs/SCALING.md
+V2_MSG = 1.7e-6
+V2_BYTE = 0.37e-9
+V2_PACK = 0.9e-9
 
 NETWORKS = {
     # latency (s), bandwidth (bytes/s)
@@ -180,7 +206,8 @@ def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samp
 class Model:
     def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
                  prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
-                 band=0, probe_miss=1, passes=1, worker_overhead=0.0):
+                 band=0, probe_miss=1, passes=1, worker_overhead=0.0, farm="v2", per_rank=8,
+                 flush_interval=1.0, flush_bytes=64 << 20, lease=5.0, pack_byte=0.0, reports_first=False):
         self.T = threads
         self.L = latency
         self.B = bandwidth
@@ -194,6 +221,13 @@ class Model:
         self.probe_miss = probe_miss
         self.passes = passes
         self.worker_overhead = worker_overhead
+        self.farm = farm  # "v1": results unit by unit (before df446ae); "v2": sums held, sent per flush
+        self.per_rank = per_rank
+        self.flush_interval = flush_interval
+        self.flush_bytes = flush_bytes
+        self.lease = lease
+        self.pack_byte = pack_byte
+        self.reports_first = reports_first  # not built: rank 0 takes reports before sums
 
     def result_service(self, nbytes):
         return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
@@ -398,20 +432,376 @@ def simulate_farm(job, N, m, split=True):
             "per_rank_busy": per_busy, "per_rank_rows": per_rows, "server_busy": server_busy}
 
 
-POLICIES = ("static", "bands", "split")
+# ---- the farm as rewritten (v2): sums held by the workers ------------------
+
+PIECE_HDR = 5 * 8  # a piece in a SUMS message: y0, y1, s0, s1, n (int64), then n unit ids
+REPORT_BYTES = 4 * 8  # a REPORT: id, segments, start, end (int64) per unit
 
 
-def simulate(job, N, m, policy):
+def piece_bytes(width, y0, y1, n_ids):
+    return PIECE_HDR + 8 * n_ids + (y1 - y0) * width * 3 * 8
+
+
+class Picker:
+    """Which queued unit a rank gets next. "fifo": schedule order (the farm
+    as built, policies bands and split). "affinity" (not built): a rank
+    first continues the band whose sample ranges it was last given, then
+    starts a band nobody has started, then takes the next range of any band
+    (the tail), so a row's sample ranges mostly stay on one rank."""
+
+    def __init__(self, units, mode):
+        self.units, self.mode = units, mode
+        self.n = len(units)
+        self.nxt = 0
+        if mode == "affinity":
+            # groups: runs of units with the same rows in schedule order
+            self.groups = []
+            for i, u in enumerate(units):
+                if self.groups and units[self.groups[-1][-1]][:2] == u[:2] and units[self.groups[-1][-1]][3] == u[2]:
+                    self.groups[-1].append(i)
+                else:
+                    self.groups.append([i])
+            self.gnext = [0] * len(self.groups)
+            self.fresh = 0  # first group that may be untouched
+            self.any = 0    # first group that may have ranges left
+            self.cur = {}
+            self.left = self.n
+
+    def remaining(self):
+        return self.n - self.nxt if self.mode == "fifo" else self.left
+
+    def take(self, r):
+        if self.mode == "fifo":
+            if self.nxt >= self.n:
+                return None
+            self.nxt += 1
+            return self.nxt - 1
+        if not self.left:
+            return None
+        g = self.cur.get(r)
+        if g is None or self.gnext[g] >= len(self.groups[g]):
+            g = None
+            while self.fresh < len(self.groups) and self.gnext[self.fresh] > 0:
+                self.fresh += 1
+            if self.fresh < len(self.groups):
+                g = self.fresh
+            else:
+                while self.gnext[self.any] >= len(self.groups[self.any]):
+                    self.any += 1
+                g = self.any
+        i = self.groups[g][self.gnext[g]]
+        self.gnext[g] += 1
+        self.cur[r] = g
+        self.left -= 1
+        return i
+
+
+def simulate_farm2(job, N, m, split=True, affinity=False):
+    """The farm of df446ae/c08005a: discrete-event simulation of rank 0's
+    server, its render thread and N-1 workers that report each unit in 32
+    bytes and keep its sums (held.c), sending them combined per flush."""
+    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes, per_rank=m.per_rank)
+    n = len(units)
+    cost = [job.cost(u) / m.T * m.slowdown for u in units]
+    pick = Picker(units, "affinity" if affinity else "fifo")
+    W = job.W
+    a, b = m.a, m.b
+    bw = 0.0 if m.B == math.inf else 1.0 / m.B
+    beat = m.lease / 4
+
+    per_units = [0] * N
+    per_busy = [0.0] * N
+    per_rows = [0.0] * N
+    held_peak = [0] * N
+    st = {"in": 0, "complete": None, "last_done": 0.0, "messages": 0, "bytes": 0, "server_busy": 0.0,
+          "sums_msgs": 0, "sums_bytes": 0, "report_msgs": 0, "beats": 0, "flushes": 0}
+
+    events = []
+    seq = [0]
+
+    def push(t, kind, who, data=None):
+        heapq.heappush(events, (t, seq[0], kind, who, data))
+        seq[0] += 1
+
+    def account(rank, i):
+        u = units[i]
+        per_units[rank] += 1
+        per_busy[rank] += cost[i]
+        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S
+
+    # rank 0's render thread: takes from the same queue, its sums go in at once
+    if N == 1 or not m.serve_only:
+        i = pick.take(0)
+        if i is not None:
+            push(cost[i], "local_end", 0, i)
+
+    # workers
+    wq = [deque() for _ in range(N)]
+    w_busy = [False] * N
+    w_idle = [0.0] * N
+    w_wake = [False] * N
+    store = [dict() for _ in range(N)]  # (y0, y1) -> [s0, s1, n_ids]
+    sealed = [[] for _ in range(N)]     # full stores waiting to be sent
+    w_bytes = [0] * N                   # sums held (bytes, as held.c counts them)
+    w_want = [False] * N                # rank 0 asked (IDLE, FLUSH)
+    w_last_flush = [0.0] * N
+    w_last_sent = [0.0] * N
+    w_finished = [False] * N
+    w_unreported = [0] * N
+
+    # rank 0's book
+    credit = [0] * N
+    assigned = [0] * N
+    held_units = [0] * N
+    idle_sent = [False] * N
+    pass_of = [0] * n
+    if m.passes > 1:
+        ends = [job.S * (k + 1) // max(1, min(m.passes, job.S)) for k in range(max(1, min(m.passes, job.S)))]
+        for i, u in enumerate(units):
+            k = 0
+            while u[3] > ends[k]:
+                k += 1
+            pass_of[i] = k
+    npasses = max(pass_of) + 1 if n else 1
+    pass_left = [0] * npasses
+    for k in pass_of:
+        pass_left[k] += 1
+    pass_asked = [0]
+    inbox = deque()
+    sums_box = deque() if m.reports_first else inbox
+    s_idle_since = [0.0]
+    s_scheduled = [False]
+
+    for r in range(1, N):
+        push(m.L, "arrive", 0, ("hello", r, 4))
+        push(beat, "w_beat", r)
+        push(m.flush_interval, "w_tick", r)
+
+    def sums_in(t, k):
+        st["in"] += k
+        if st["in"] == n and st["complete"] is None:
+            st["complete"] = t
+
+    def serve_peer(t, r):
+        sent = []
+        while credit[r] > 0:
+            i = pick.take(r)
+            if i is None:
+                break
+            sent.append(i)
+            credit[r] -= 1
+        if sent:
+            idle_sent[r] = False
+            assigned[r] += len(sent)
+            push(t + m.L, "units", r, sent)
+        elif assigned[r] == 0 and not idle_sent[r]:
+            idle_sent[r] = True
+            push(t + m.L, "ask", r)
+
+    def flush(t, r):
+        """Sends the sealed stores, then the current one: a message each."""
+        w_want[r] = False
+        w_last_flush[r] = t
+        stores = sealed[r] + ([store[r]] if store[r] else [])
+        sealed[r] = []
+        store[r] = {}
+        w_bytes[r] = 0
+        if stores:
+            st["flushes"] += 1
+        for s in stores:
+            nbytes = sum(piece_bytes(W, k[0], k[1], p[2]) for k, p in s.items())
+            nids = sum(p[2] for p in s.values())
+            t += nbytes * m.pack_byte
+            push(t + m.L, "arrive", 0, ("sums", r, nbytes, nids))
+        w_last_sent[r] = t
+
+    def worker_start(t, r):
+        i = wq[r].popleft()
+        w_busy[r] = True
+        push(t + cost[i], "w_end", r, i)
+
+    def worker_idle(t, r):
+        w_busy[r] = False
+        if wq[r]:
+            worker_start(t, r)
+        else:
+            w_idle[r] = t
+
+    def wake(t, r):
+        """A message reached worker r: seen at once while it renders, at its
+        next poll while it naps."""
+        if w_busy[r]:
+            return t
+        if not w_wake[r]:
+            w_wake[r] = True
+            push(m.next_poll(w_idle[r], t), "w_poll", r)
+        return None
+
+    while events:
+        t, _, kind, who, data = heapq.heappop(events)
+        if kind == "local_end":
+            account(0, data)
+            sums_in(t, 1)
+            k = pass_of[data]
+            pass_left[k] -= 1
+            i = pick.take(0)
+            if i is not None:
+                push(t + cost[i], "local_end", 0, i)
+        elif kind == "arrive":
+            (sums_box if data[0] == "sums" else inbox).append(data)
+            if not s_scheduled[0]:
+                s_scheduled[0] = True
+                push(m.next_poll(s_idle_since[0], t), "serve", 0)
+        elif kind == "serve":
+            if not inbox and not sums_box:
+                s_scheduled[0] = False
+                s_idle_since[0] = t
+                continue
+            msg = inbox.popleft() if inbox else sums_box.popleft()
+            typ, r = msg[0], msg[1]
+            st["messages"] += 1
+            if typ == "hello":
+                d = a + msg[2] * b
+                st["bytes"] += msg[2]
+                t1 = t + d
+                credit[r] = m.prefetch
+                serve_peer(t1, r)
+            elif typ == "report":
+                i = msg[2]
+                d = a + REPORT_BYTES * (b + bw)
+                st["bytes"] += REPORT_BYTES
+                st["report_msgs"] += 1
+                t1 = t + d
+                account(r, i)
+                assigned[r] -= 1
+                held_units[r] += 1
+                pass_left[pass_of[i]] -= 1
+                st["last_done"] = t1
+                credit[r] += 1
+                serve_peer(t1, r)
+            elif typ == "sums":
+                nbytes, nids = msg[2], msg[3]
+                d = a + nbytes * (b + bw)
+                st["bytes"] += nbytes
+                st["sums_msgs"] += 1
+                st["sums_bytes"] += nbytes
+                t1 = t + d
+                held_units[r] -= nids
+                sums_in(t1, nids)
+            else:  # beat
+                d = a
+                st["beats"] += 1
+                t1 = t + d
+            st["server_busy"] += d
+            # a progressive pass is done: ask every holder for its sums
+            while pass_asked[0] + 1 < npasses and pass_left[pass_asked[0]] == 0:
+                pass_asked[0] += 1
+                for q in range(1, N):
+                    if held_units[q] > 0:
+                        push(t1 + m.L, "ask", q)
+            push(t1, "serve", 0)
+        elif kind == "units":
+            r = who
+            wq[r].extend(data)
+            if not w_busy[r] and not w_wake[r]:
+                w_wake[r] = True
+                push(m.next_poll(w_idle[r], t), "w_poll", r)
+        elif kind == "ask":  # IDLE or FLUSH reached worker r
+            r = who
+            w_want[r] = True
+            t0 = wake(t, r)
+            if t0 is not None:
+                flush(t0, r)
+        elif kind == "w_poll":
+            r = who
+            w_wake[r] = False
+            if w_want[r]:
+                flush(t, r)
+            if not w_busy[r] and wq[r]:
+                worker_start(t, r)
+        elif kind == "w_end":
+            r, i = who, data
+            u = units[i]
+            key = (u[0], u[1])
+            cur = store[r]
+            p = cur.get(key)
+            if p is not None and p[1] == u[2]:
+                p[1] = u[3]
+                p[2] += 1
+            else:
+                if p is not None:  # same rows, not its next samples: a new store
+                    sealed[r].append(cur)
+                    store[r] = cur = {}
+                cur[key] = [u[2], u[3], 1]
+                w_bytes[r] += (u[1] - u[0]) * W * 24
+            held_peak[r] = max(held_peak[r], w_bytes[r] + sum(
+                (k[1] - k[0]) * W * 24 for s in sealed[r] for k in s))
+            push(t + m.L, "arrive", 0, ("report", r, i))
+            w_last_sent[r] = t
+            if (w_want[r] or sealed[r] or t - w_last_flush[r] >= m.flush_interval
+                    or w_bytes[r] >= m.flush_bytes):
+                flush(t, r)
+            if m.worker_overhead > 0:
+                push(t + m.worker_overhead, "w_free", r)
+            else:
+                worker_idle(t, r)
+        elif kind == "w_free":
+            worker_idle(t, who)
+        elif kind == "w_tick":  # the flush interval, checked at a poll
+            r = who
+            if st["complete"] is None:
+                if t - w_last_flush[r] >= m.flush_interval - 1e-12 and (store[r] or sealed[r]):
+                    t0 = t if w_busy[r] else m.next_poll(w_idle[r], t)
+                    flush(t0, r)
+                push(max(t, w_last_flush[r]) + m.flush_interval, "w_tick", r)
+        elif kind == "w_beat":  # a quarter lease without a word: a beat
+            r = who
+            if st["complete"] is None:
+                if t - w_last_sent[r] >= beat - 1e-12:
+                    push(t + m.L, "arrive", 0, ("beat", r))
+                    w_last_sent[r] = t
+                push(w_last_sent[r] + beat, "w_beat", r)
+        # the end: rank 0 holds every sum
+        if st["complete"] is not None and not inbox and not sums_box:
+            break
+    assert st["in"] == n, (st["in"], n)
+    makespan = st["complete"]
+    # after the end: FINISH, then a BYE (4 doubles) from every worker
+    msgs = st["messages"] + (N - 1)
+    nbytes = st["bytes"] + 32 * (N - 1)
+    return {"makespan": makespan, "units": n, "messages": msgs, "bytes": nbytes,
+            "sums_messages": st["sums_msgs"], "sums_bytes": st["sums_bytes"], "reports": st["report_msgs"],
+            "beats": st["beats"], "flushes": st["flushes"],
+            "serve_cpu": a * msgs + b * nbytes,
+            "final_combine": (makespan - st["last_done"]) if N > 1 and st["last_done"] > 0 else 0.0,
+            "held_peak_mb": [x / 2 ** 20 for x in held_peak],
+            "per_rank_units": per_units, "per_rank_busy": per_busy, "per_rank_rows": per_rows,
+            "server_busy": st["server_busy"]}
+
+
+POLICIES = ("static", "bands", "split", "affinity")
+
+
+def simulate(job, N, m, policy, setup=0.0, startup=0.0, write=0.0):
+    """One policy on N ranks. Efficiency = total cost / (N * T * (setup +
+    makespan)): the render phase from the scene broadcast (setup: broadcast
+    and BVH build) to rank 0 holding every sum; efficiency_job also counts
+    start-up (MPI) and the image write."""
     if policy == "static":
         res = simulate_static(job, N, m)
-    elif policy == "bands":
-        res = simulate_farm(job, N, m, split=False)
-    elif policy == "split":
-        res = simulate_farm(job, N, m, split=True)
+    elif m.farm == "v1":
+        if policy == "affinity":
+            raise ValueError("policy affinity is a v2 policy")
+        res = simulate_farm(job, N, m, split=policy == "split")
+    elif policy in ("bands", "split", "affinity"):
+        res = simulate_farm2(job, N, m, split=policy != "bands", affinity=policy == "affinity")
     else:
         raise ValueError(policy)
     ideal = job.total / m.T * m.slowdown
-    res["efficiency"] = ideal / (N * res["makespan"]) if res["makespan"] > 0 else 1.0
+    res["efficiency"] = ideal / (N * (setup + res["makespan"])) if res["makespan"] > 0 else 1.0
+    res["efficiency_job"] = ideal / (N * (startup + setup + res["makespan"] + write)) if res["makespan"] > 0 else 1.0
+    res.setdefault("final_combine", 0.0)
+    res.setdefault("sums_bytes", 0)
     res["server_util"] = res["server_busy"] / res["makespan"] if res["makespan"] > 0 else 0.0
     res["units_per_s"] = res["units"] / res["makespan"] if res["makespan"] > 0 else 0.0
     # rank 0's service demand against the ideal makespan: >= 1 means rank 0
@@ -452,6 +842,7 @@ def compare(job, m, args):
     if any(int(x["ranks"]) != N for x in runs):
         raise SystemExit("simulate_scaling: --compare runs differ in rank count")
     res = simulate(job, N, m, "split")
+    v2 = m.farm == "v2"
     pu, pb, prow = res["per_rank_units"], res["per_rank_busy"], res["per_rank_rows"]
     spb = sum(pb) or 1.0
 
@@ -460,8 +851,14 @@ def compare(job, m, args):
         u = [float(r["units"]) for r in pr]
         b = [float(r["busy_seconds"]) for r in pr]
         sb = sum(b) or 1.0
+        if v2:
+            msgs = float(x.get("rank0_messages_in", 0))
+        else:
+            msgs = (N - 1) + sum(u[1:]) if N > 1 else 0
         return {"units": u, "share": [100 * v / sb for v in b], "rows": [float(r["rows"]) for r in pr],
-                "messages": (N - 1) + sum(u[1:]) if N > 1 else 0, "imbalance": max(b) / (sb / N),
+                "messages": msgs, "imbalance": max(b) / (sb / N),
+                "bytes": float(x.get("rank0_bytes_in", 0)), "fc": float(x.get("final_combine_seconds", 0)),
+                "cpu": float(x.get("rank0_serve_cpu_seconds", 0)),
                 "wall": float(x.get("render_seconds", 0))}
 
     meas = [per_run(x) for x in runs]
@@ -494,8 +891,18 @@ def compare(job, m, args):
                             sum(pu)))
     msg = [x["messages"] for x in meas]
     imb = [x["imbalance"] for x in meas]
-    print("messages rank 0 received (hellos + results): measured %.0f [%.0f-%.0f], predicted %d"
-          % (mean(msg), min(msg), max(msg), res["messages"]))
+    if v2:
+        print("messages rank 0 received (hellos, reports, sums, beats, byes): measured %.0f [%.0f-%.0f], "
+              "predicted %d" % (mean(msg), min(msg), max(msg), res["messages"]))
+        for key, name, pred, scale, fmt in (("bytes", "MB rank 0 received", res["bytes"], 1e-6, "%.3f"),
+                                            ("fc", "final combination, ms", res["final_combine"], 1e3, "%.2f"),
+                                            ("cpu", "rank 0 serve CPU, ms", res["serve_cpu"], 1e3, "%.2f")):
+            v = [x[key] * scale for x in meas]
+            print(("%s: measured " + fmt + " [" + fmt + "-" + fmt + "], predicted " + fmt)
+                  % (name, mean(v), min(v), max(v), pred * scale))
+    else:
+        print("messages rank 0 received (hellos + results): measured %.0f [%.0f-%.0f], predicted %d"
+              % (mean(msg), min(msg), max(msg), res["messages"]))
     print("load imbalance (max busy / mean busy): measured %.3f [%.3f-%.3f], predicted %.3f"
           % (mean(imb), min(imb), max(imb), max(pb) / (spb / N)))
     if trace_ok is not None:
@@ -512,6 +919,10 @@ def compare(job, m, args):
            "messages_measured": mean(msg), "messages_predicted": res["messages"],
            "imbalance_measured": mean(imb), "imbalance_predicted": max(pb) / (spb / N),
            "trace_matches_stats": trace_ok}
+    if v2:
+        for key, pred in (("bytes", res["bytes"]), ("fc", res["final_combine"]), ("cpu", res["serve_cpu"])):
+            row[key + "_measured"] = [x[key] for x in meas]
+            row[key + "_predicted"] = pred
     if args.summary:
         with open(args.summary, "a") as f:
             f.write(json.dumps(row) + "\n")
@@ -521,7 +932,9 @@ def compare(job, m, args):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--trace", help="rt-mpi --trace file of a real run (unit costs)")
+    ap.add_argument("--trace", nargs="+", help="rt-mpi --trace file of a real run (unit costs); several runs of "
+                    "one job: each row's cost is its cheapest (a unit that other work on the machine preempted "
+                    "looks dearer than it is)")
     ap.add_argument("--empty-units", action="store_true",
                     help="units cost nothing (as rt-mpi --empty-units): the farm's own rate; needs --width, "
                          "--height, --samples instead of a trace")
@@ -534,7 +947,20 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=16, help="threads per rank [16]")
     ap.add_argument("--ranks", type=parse_ranks, default=parse_ranks("1-4096"),
                     help="list, or LO-HI for the powers of two between [1-4096]")
-    ap.add_argument("--policies", default=",".join(POLICIES), help="static,bands,split")
+    ap.add_argument("--policies", help="static,bands,split,affinity [v2: all four; v1: static,bands,split]")
+    ap.add_argument("--farm", choices=("v1", "v2"), default="v2",
+                    help="v2: the farm as built (df446ae: 32-byte reports, sums held and sent per flush); "
+                         "v1: every unit's sums to rank 0 (bec6e4d and before), to reproduce old predictions [v2]")
+    ap.add_argument("--flush-interval", type=float, default=1.0, help="v2: a worker's flush interval, s [1]")
+    ap.add_argument("--flush-mb", type=float, default=64, help="v2: a worker flushes when it holds this, MB [64]")
+    ap.add_argument("--lease", type=float, default=5.0, help="v2: lease, s; an idle worker beats every lease/4 [5]")
+    ap.add_argument("--pack-byte", type=float, default=V2_PACK,
+                    help="v2: a worker's seconds per byte to pack a flush [%g, measured]" % V2_PACK)
+    ap.add_argument("--reports-first", action="store_true",
+                    help="v2, not built: rank 0 takes hellos, reports and beats before sums (probing their tags "
+                         "first), so a burst of flushes does not hold up the next units")
+    ap.add_argument("--units-per-rank", type=int, default=8,
+                    help="v2: the schedule's target units per rank (src/core/schedule.c: 8) [8]")
     ap.add_argument("--network", choices=sorted(NETWORKS), default="ib",
                     help="latency/bandwidth preset: ib (2 us, 12.5 GB/s), eth (50 us, 1.25 GB/s), "
                          "shm (1 us, copies in service) [ib]")
@@ -542,8 +968,10 @@ def main(argv=None):
     ap.add_argument("--bandwidth", type=float, help="rank 0 ingress bandwidth, bytes/s (overrides --network)")
     ap.add_argument("--service-json", help="rank 0 service time fitted by validate_scaling.sh "
                                            "(service_msg_s, service_byte_s)")
-    ap.add_argument("--service-msg", type=float, help="rank 0 seconds per message (default 20e-6)")
-    ap.add_argument("--service-byte", type=float, help="rank 0 seconds per result byte (default 0)")
+    ap.add_argument("--service-msg", type=float,
+                    help="rank 0 seconds per message (v1 default 20e-6; v2 default %g, measured)" % V2_MSG)
+    ap.add_argument("--service-byte", type=float,
+                    help="rank 0 seconds per byte received (v1 default 0; v2 default %g, measured)" % V2_BYTE)
     ap.add_argument("--prefetch", type=int, default=2, help="units in flight per worker [2]")
     ap.add_argument("--band", type=int, default=0, help="fixed rows per unit as --band (0: guided) [0]")
     ap.add_argument("--passes", type=int, default=1, help="progressive passes as rt-mpi --passes [1]")
@@ -557,6 +985,10 @@ def main(argv=None):
     ap.add_argument("--worker-overhead", type=float, default=0.0,
                     help="seconds a worker spends between two units outside rendering (message handling; "
                          "under Open MPI's yield-when-idle on shared cores it is milliseconds) [0]")
+    ap.add_argument("--setup", type=float, default=0.0,
+                    help="seconds of scene broadcast and BVH build, counted in the render phase [0]")
+    ap.add_argument("--startup", type=float, default=0.0, help="seconds of MPI start-up before it (E+) [0]")
+    ap.add_argument("--write", type=float, default=0.0, help="seconds of image writing after it (E+) [0]")
     ap.add_argument("--slowdown", type=float, default=1.0, help="unit durations times this (shared cores)")
     ap.add_argument("--per-rank", action="store_true", help="print units and busy share per rank")
     ap.add_argument("--compare", metavar="STATS.json", nargs="+",
@@ -589,10 +1021,12 @@ def main(argv=None):
         th, ts = args.height, args.samples
         profile = [0.0] * th
     else:
-        events = load_trace(args.trace)
+        events = load_trace(args.trace[0])
         th = stats.get("height") or max(e["y1"] for e in events)
         ts = stats.get("samples") or max(e["s1"] for e in events)
         profile = cost_profile(events, tw, tt, th)
+        for path in args.trace[1:]:
+            profile = [min(x, y) for x, y in zip(profile, cost_profile(load_trace(path), tw, tt, th))]
     W = args.width or tw
     H = args.height or th
     S = args.samples or ts
@@ -603,11 +1037,17 @@ def main(argv=None):
         lat = args.latency
     if args.bandwidth is not None:
         bw = args.bandwidth if args.bandwidth > 0 else math.inf
-    smsg, sbyte = 20e-6, 0.0
+    smsg, sbyte = (20e-6, 0.0) if args.farm == "v1" else (V2_MSG, V2_BYTE)
     if args.service_json:
         with open(args.service_json) as f:
             sj = json.load(f)
-        smsg, sbyte = sj["service_msg_s"], sj["service_byte_s"]
+        if args.farm == "v1":
+            if "service_msg_s" not in sj:
+                ap.error("%s holds v2 costs (per message and byte): give --farm v1 its costs per result "
+                         "(--service-msg, --service-byte)" % args.service_json)
+            smsg, sbyte = sj["service_msg_s"], sj["service_byte_s"]
+        else:
+            smsg, sbyte = sj["msg_s"], sj["byte_s"]
     if args.service_msg is not None:
         smsg = args.service_msg
     if args.service_byte is not None:
@@ -615,22 +1055,31 @@ def main(argv=None):
     m = Model(threads=args.threads, latency=lat, bandwidth=bw, service_msg=smsg, service_byte=sbyte,
               prefetch=args.prefetch, nap_base=args.nap_base, nap_cap=args.nap_cap, nap_slack=args.nap_slack,
               slowdown=args.slowdown, serve_only=args.serve_only, band=args.band,
-              probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead)
+              probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead,
+              farm=args.farm, per_rank=args.units_per_rank, flush_interval=args.flush_interval,
+              flush_bytes=args.flush_mb * 2 ** 20, lease=args.lease, pack_byte=args.pack_byte,
+              reports_first=args.reports_first)
     if args.compare:
         return compare(job, m, args)
+    if not args.policies:
+        args.policies = "static,bands,split" if args.farm == "v1" else ",".join(POLICIES)
     policies = [p.strip() for p in args.policies.split(",") if p.strip()]
     for p in policies:
-        if p not in POLICIES:
-            ap.error("unknown policy %r (static, bands, split)" % p)
+        if p not in POLICIES or (p == "affinity" and args.farm == "v1"):
+            ap.error("unknown policy %r (static, bands, split%s)" % (p, "" if args.farm == "v1" else ", affinity"))
 
     out = {"job": {"width": W, "height": H, "samples": S, "cost_thread_seconds": job.total},
-           "trace": {"file": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
+           "trace": {"files": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
                      "units": len(events)},
            "model": {"threads": m.T, "latency_s": m.L, "bandwidth_Bps": None if m.B == math.inf else m.B,
                      "service_msg_s": m.a, "service_byte_s": m.b, "prefetch": m.prefetch,
                      "nap_base_s": m.nap_base, "nap_cap_s": m.nap_cap, "nap_slack_s": m.nap_slack,
                      "slowdown": m.slowdown, "serve_only": m.serve_only, "band": m.band,
-                     "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead},
+                     "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead,
+                     "farm": m.farm, "units_per_rank": m.per_rank, "flush_interval_s": m.flush_interval,
+                     "flush_bytes": m.flush_bytes, "lease_s": m.lease, "pack_byte_s": m.pack_byte,
+                     "reports_first": m.reports_first,
+                     "setup_s": args.setup, "startup_s": args.startup, "write_s": args.write},
            "results": []}
     if not args.quiet:
         bw_s = "inf" if m.B == math.inf else "%.3g GB/s" % (m.B / 1e9)
@@ -638,7 +1087,7 @@ def main(argv=None):
             print("job %dx%d, %d spp, empty units (no rendering: the farm's own rate)" % (W, H, S))
         else:
             print("job %dx%d, %d spp: %.1f thread-seconds (profile from %s: %dx%d, %d spp, %d thread%s, %d units)"
-                  % (W, H, S, job.total, args.trace, tw, th, ts, tt, "s" if tt > 1 else "", len(events)))
+                  % (W, H, S, job.total, " ".join(args.trace), tw, th, ts, tt, "s" if tt > 1 else "", len(events)))
         print("model: %d threads/rank, latency %.3g us, bandwidth %s, rank 0 service %.3g us/msg + %.3g ns/byte, "
               "prefetch %d, naps %.0f us..%.0f us +%.0f us, probe miss %d%s%s"
               % (m.T, m.L * 1e6, bw_s, m.a * 1e6, m.b * 1e9, m.prefetch, m.nap_base * 1e6, m.nap_cap * 1e6,
@@ -648,12 +1097,21 @@ def main(argv=None):
         hdr += "".join("%9s" % ("T " + p) for p in policies)
         hdr += "".join("%9s" % ("units " + p[:2]) for p in policies if p != "static")
         hdr += "".join("%9s" % ("r0 " + p[:2]) for p in policies if p != "static")
-        print("E: parallel efficiency; T: makespan (s); units: work units; r0: rank 0's server busy share")
+        if m.farm == "v2":
+            hdr += "".join("%9s" % ("fc " + p[:2]) for p in policies if p != "static")
+            hdr += "".join("%9s" % ("MB " + p[:2]) for p in policies if p != "static")
+        print("E: parallel efficiency of the render phase%s; T: makespan (s); units: work units; "
+              "r0: rank 0's server busy share" % (" (with %.3g s of set-up)" % args.setup if args.setup else ""))
+        if m.farm == "v2":
+            print("fc: final combination (s, last unit reported to last sums in); MB: sums rank 0 receives")
+        if args.startup or args.write:
+            print("E+: the whole job, with %.3g s start-up and %.3g s image writing" % (args.startup, args.write))
+            hdr += "".join("%9s" % ("E+ " + p[:2]) for p in policies)
         print(hdr)
     for N in args.ranks:
         row = {"ranks": N}
         for p in policies:
-            row[p] = simulate(job, N, m, p)
+            row[p] = simulate(job, N, m, p, setup=args.setup, startup=args.startup, write=args.write)
         out["results"].append(row)
         if not args.quiet:
             if args.empty_units:
@@ -663,6 +1121,11 @@ def main(argv=None):
             line += "".join("%9.3g" % row[p]["makespan"] for p in policies)
             line += "".join("%9d" % row[p]["units"] for p in policies if p != "static")
             line += "".join("%8.1f%%" % (100 * row[p]["server_util"]) for p in policies if p != "static")
+            if m.farm == "v2":
+                line += "".join("%9.3g" % row[p]["final_combine"] for p in policies if p != "static")
+                line += "".join("%9.0f" % (row[p]["sums_bytes"] / 1e6) for p in policies if p != "static")
+            if args.startup or args.write:
+                line += "".join("%9.3f" % row[p]["efficiency_job"] for p in policies)
             print(line)
             if args.per_rank:
                 for p in policies:

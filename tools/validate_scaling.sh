@@ -1,36 +1,42 @@
 #!/bin/bash
 # validate_scaling.sh [--quick] [--rounds N] [--out DIR] [--only serve|validate|predict]
-# Measures what the scaling model (scripts/simulate_scaling.py) needs and
-# checks it against real runs on this machine, in a few minutes:
-#   serve     rank 0's service rate: --empty-units --serve-only at np 2, 4, 8
-#             x prefetch 1, 2, 4 (1-row units of a 1200-wide image), then at
-#             the busiest setting three result sizes (16 x 1, 1200 x 1 and
-#             1200 x 16 pixels); fits service = a + b * bytes -> OUT/serve.json
-#   validate  real jobs at -np 1, 2, 4, 8 (-j 1; oversubscribed past 2 cores),
-#             3 runs each, with --trace/--stats; the -np 1 trace is the cost
-#             profile, and the simulator predicts units and busy share per
-#             rank and rank 0's message count, side by side with the measured
-#             ones. Two jobs: 600x400 at 16 spp (row bands) and 800x24 at 128
-#             spp (sample split from -np 4); each with Open MPI's
-#             yield-when-idle off ("noyield") and on ("yield", its default
-#             when oversubscribed; the model then gets the workers' measured
-#             seconds per unit in MPI calls)
-#   predict   calibration runs 1200x800 at 4 spp (the fastest of 3 is the
-#             cost profile), then predicted efficiency of the three policies
-#             for 1200x800 and 3840x2160 at 500 spp, 16 threads per rank,
-#             1 ... 4096 ranks; and again with an assumed faster rank 0
-# Results stay in OUT (default build/scaling): traces, stats, serve.tsv,
-# serve.json, validate.txt, predict-*.txt.
+# Measures what the scaling model (tools/simulate_scaling.py, farm v2: the
+# farm of df446ae) needs on this machine, checks the model against real
+# runs, and predicts, in a few minutes:
+#   serve     rank 0's cost: --empty-units --serve-only -np 8 (rank 0 busy,
+#             not napping between messages), 1-row units of 16, 1200 and
+#             2400 pixels (4000 units), ROUNDS runs each; fits
+#             rank0_serve_cpu_seconds = a * messages + b * bytes (all three
+#             from --stats); then -np 2 runs of 1200-pixel units (their sums
+#             all come in one final flush) give a worker's seconds per byte
+#             to pack a flush, from final_combine_seconds -> OUT/serve.json
+#   validate  real jobs at -np 1, 2, 4, 8 (-j 1; oversubscribed past the
+#             cores, Open MPI's yield-when-idle off), VROUNDS runs each with
+#             --trace/--stats; the -np 1 trace is the cost profile; side by
+#             side: units and busy share per rank, rank 0's messages, bytes,
+#             serve CPU and final combination. Two jobs: 600x400 at 16 spp
+#             (row bands) and 800x24 at 128 spp (sample split from -np 4)
+#   predict   start-up (MPI init, scene, BVH build: total - render - write
+#             of -np 2 -s 1 runs) and image writing (the PNG's open to its
+#             rename, strace), a cost profile (1200x800 at 4 spp, -j 2,
+#             3 runs, each row's cheapest), then the efficiency of the render phase at 16
+#             threads per rank, 64 ... 4096 ranks, for 1200x800 at 500 spp
+#             and 3840x2160 at 500 and 4500 spp and at the samples that give
+#             1 s of work per thread at 1024 and 4096 x 16, as built and with
+#             changes that are not built (flush interval, units per rank,
+#             affinity, reports before sums, rank 0's cost per byte / 4)
+# Results stay in OUT (default build/scaling): stats, traces, serve.json,
+# validate.txt, validate.jsonl, predict-*.txt.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-OUT=$ROOT/build/scaling ROUNDS=2 VROUNDS=3 ONLY="" QUICK=0
+OUT=$ROOT/build/scaling ROUNDS=3 VROUNDS=3 ONLY="" QUICK=0
 while [ $# -gt 0 ]; do
     case $1 in
     --quick) QUICK=1 ROUNDS=1 VROUNDS=1 ;;
     --rounds) ROUNDS=$2; shift ;;
     --out) OUT=$2; shift ;;
     --only) ONLY=$2; shift ;;
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,29p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "validate_scaling.sh: unknown option $1" >&2; exit 2 ;;
     esac
     shift
@@ -40,8 +46,10 @@ PY=python3
 [ -x /usr/bin/python3 ] && PY=/usr/bin/python3
 SIM="$PY $ROOT/tools/simulate_scaling.py"
 source "$ROOT/scripts/mpi_env.sh"
+export OMPI_MCA_mpi_yield_when_idle=0
 CORES=$(nproc)
 mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 want() { [ -z "$ONLY" ] || [ "$ONLY" = "$1" ]; }
@@ -55,88 +63,75 @@ run() { # np args... (quiet, no checkpoint, output in TMP); prints rt-mpi's summ
             -o "$TMP/img.png" "$@"
     fi
 }
-render_wall() { sed -n 's/^wall time: *\([0-9.]*\) s render.*/\1/p'; }
+jget() { $PY -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$@"; }
 
 echo "validate_scaling: $CORES cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
 
-# ---- rank 0's service rate ----------------------------------------------------
+# ---- rank 0's cost ----------------------------------------------------------------
 if want serve; then
     echo
-    echo "== rank 0 service rate (--empty-units --serve-only, 1 thread per rank, best of $ROUNDS) =="
-    # units/s = units / render wall time; each config runs long enough (the
-    # image grows until the run takes >= 0.5 s, up to 32000 units or 20 M pixels)
-    serve_rate() { # np prefetch width band -> units/s (best of ROUNDS)
-        local np=$1 pf=$2 w=$3 band=$4 h=$(($4 * 1000)) best=0 wall rate r
-        for ((r = 1; r <= ROUNDS; r++)); do
-            while :; do
-                wall=$(run "$np" --empty-units --serve-only --width "$w" --height "$h" --band "$band" -s 1 -j 1 \
-                    --prefetch "$pf" | render_wall)
-                if awk -v t="$wall" -v h="$h" -v b="$band" -v w="$w" \
-                    'BEGIN {exit !(t < 0.5 && 4 * h / b <= 32000 && 4 * h * w <= 20e6)}'; then
-                    h=$((h * 4))
-                    continue
-                fi
-                break
-            done
-            rate=$(awk -v t="$wall" -v h="$h" -v b="$band" 'BEGIN {printf "%.0f", (h / b) / t}')
-            [ "$rate" -gt "$best" ] && best=$rate
-        done
-        echo "$best"
-    }
+    echo "== rank 0's cost (--empty-units --serve-only, one-row units, $ROUNDS runs each) =="
     : >"$OUT/serve.tsv"
-    for np in 2 4 8; do
-        for pf in 1 2 4; do
-            printf '%s\t%s\t%s\t%s\t%s\n' "$np" "$pf" 1200 1 "$(serve_rate "$np" "$pf" 1200 1)" >>"$OUT/serve.tsv"
+    for ((r = 1; r <= ROUNDS; r++)); do
+        for w in 16 1200 2400; do
+            s=$OUT/serve-np8-w$w-r$r.stats.json
+            run 8 --empty-units --serve-only --width "$w" --height 4000 --band 1 -s 1 -j 1 --stats "$s" >/dev/null
+            printf '%s\t%s\t%s\n' 8 "$w" "$s" >>"$OUT/serve.tsv"
         done
+        s=$OUT/serve-np2-w1200-r$r.stats.json
+        run 2 --empty-units --serve-only --width 1200 --height 2000 --band 1 -s 1 -j 1 --stats "$s" >/dev/null
+        printf '%s\t%s\t%s\n' 2 1200 "$s" >>"$OUT/serve.tsv"
     done
-    # result size: the busiest setting above, two more payloads
-    for wb in "16 1" "1200 16"; do
-        set -- $wb
-        printf '%s\t%s\t%s\t%s\t%s\n' 8 4 "$1" "$2" "$(serve_rate 8 4 "$1" "$2")" >>"$OUT/serve.tsv"
-    done
-    # fit service(bytes) = a + b * bytes on the np 8 / prefetch 4 rows: the
-    # highest rates seen, the closest this box gets to a saturated rank 0
-    $PY - "$OUT/serve.tsv" "$OUT/serve.json" <<'EOF'
+    $PY - "$OUT/serve.tsv" "$OUT/serve.json" "$ROOT/tools" <<'PYEOF'
 import json, sys
-rows = [l.split("\t") for l in open(sys.argv[1]).read().split("\n") if l]
-pts = []
-for np_, pf, w, band, rate in rows:
-    if np_ == "8" and pf == "4":
-        nbytes = int(w) * int(band) * 24 + 32
-        pts.append((nbytes, 1.0 / float(rate)))
-n = len(pts)
-mx = sum(p[0] for p in pts) / n
-my = sum(p[1] for p in pts) / n
-sxx = sum((p[0] - mx) ** 2 for p in pts)
-b = sum((p[0] - mx) * (p[1] - my) for p in pts) / sxx if sxx > 0 else 0.0
-b = max(b, 0.0)
-a = max(my - b * mx, min(p[1] for p in pts) * 0.5)
-best = max(float(r[4]) for r in rows)
-json.dump({"service_msg_s": a, "service_byte_s": b, "points": [{"bytes": x, "seconds": y} for x, y in pts],
-           "best_units_per_s": best, "source": "validate_scaling.sh --only serve"}, open(sys.argv[2], "w"), indent=1)
-print("fit: rank 0 service = %.1f us + %.3f ns/byte per result (an upper bound: on this box rank 0 shares"
-      % (a * 1e6, b * 1e9))
-print("     2 cores with the workers and whatever else runs)")
-EOF
-    # the latency model (naps, probe miss) predicts the rates of the
-    # settings that do not saturate rank 0
-    printf '%-4s %-8s %-12s %10s %10s %10s\n' np prefetch "unit pixels" "units/s" predicted "us/unit"
-    while IFS=$'\t' read -r np pf w band rate; do
-        $SIM --empty-units --width "$w" --height $((band * 4000)) --samples 1 --band "$band" --serve-only \
-            --ranks "$np" --prefetch "$pf" --network shm --service-json "$OUT/serve.json" --policies bands -q \
-            --json "$TMP/empty.json"
-        pred=$($PY -c 'import json,sys; print("%.0f" % json.load(open(sys.argv[1]))["results"][0]["bands"]["units_per_s"])' \
-            "$TMP/empty.json")
-        printf '%-4s %-8s %-12s %10s %10s %10.1f\n' "$np" "$pf" "${w}x$band" "$rate" "$pred" \
-            "$(awk -v r="$rate" 'BEGIN {print 1e6 / r}')"
-    done <"$OUT/serve.tsv" | tee "$OUT/serve.txt"
-fi
+sys.path.insert(0, sys.argv[3])
+import simulate_scaling as sim
+rows, pk = [], []
+for line in open(sys.argv[1]):
+    np_, w, path = line.split()
+    d = json.load(open(path))
+    x = (int(w), d["rank0_messages_in"], d["rank0_bytes_in"], d["rank0_serve_cpu_seconds"],
+         d["final_combine_seconds"], d["render_seconds"])
+    (rows if np_ == "8" else pk).append(x)
+# least squares, no intercept: cpu = a * messages + b * bytes
+sxx = sum(m * m for _, m, _, _, _, _ in rows)
+syy = sum(b * b for _, _, b, _, _, _ in rows)
+sxy = sum(m * b for _, m, b, _, _, _ in rows)
+sxc = sum(m * c for _, m, _, c, _, _ in rows)
+syc = sum(b * c for _, _, b, c, _, _ in rows)
+det = sxx * syy - sxy * sxy
+a = (sxc * syy - syc * sxy) / det
+b = (syc * sxx - sxc * sxy) / det
+# the pack cost: the 1200-pixel runs send all their sums in the final flush
+job = sim.Job([0.0] * 2000, 1200, 2000, 1)
+m = sim.Model(threads=1, latency=1e-6, bandwidth=float("inf"), service_msg=a, service_byte=b, serve_only=True,
+              band=1, probe_miss=0)
+p0 = sim.simulate(job, 2, m, "bands")
+fc = sorted(r[4] for r in pk)
+pack = max(0.0, (fc[len(fc) // 2] - p0["final_combine"]) / p0["sums_bytes"])
+print("-np 8:")
+print("| unit pixels | messages | MB in | serve CPU ms (measured) | a*msgs + b*bytes ms | final comb. ms | render s |")
+print("|---|---|---|---|---|---|---|")
+for w, msgs, nb, cpu, f, wall in rows:
+    print("| %dx1 | %d | %.1f | %.2f | %.2f | %.1f | %.3f |" % (w, msgs, nb / 1e6, cpu * 1e3, (a * msgs + b * nb) * 1e3,
+                                                         f * 1e3, wall))
+print("-np 2, 1200x1: final combination %s ms" % ", ".join("%.1f" % (x * 1e3) for x in fc))
+print("fit: rank 0 costs %.2f us per message + %.3f ns per byte received (serve-thread CPU)" % (a * 1e6, b * 1e9))
+print("     a 1200-pixel row's report costs %.2f us; a worker packs a flush at %.3f ns/byte (median final "
+      "combination %.1f ms, %.1f ms of it predicted without packing)" % ((a + 32 * b) * 1e6, pack * 1e9,
+                                                                       fc[len(fc) // 2] * 1e3,
+                                                                       p0["final_combine"] * 1e3))
+json.dump({"msg_s": a, "byte_s": b, "pack_byte_s": pack, "points_np8": rows, "points_np2": pk,
+           "source": "validate_scaling.sh --only serve"}, open(sys.argv[2], "w"), indent=1)
+PYEOF
+fi | tee "$OUT/serve.txt"
 
-# ---- predicted vs measured on this machine --------------------------------------
+# ---- predicted vs measured on this machine ------------------------------------------
 if want validate; then
     [ -f "$OUT/serve.json" ] || { echo "validate_scaling: run the serve part first (no $OUT/serve.json)" >&2; exit 1; }
+    PACK=$(jget "$OUT/serve.json" pack_byte_s)
     echo
-    echo "== predicted vs measured load balance and messages (-j 1, np > $CORES oversubscribed, $VROUNDS runs each) =="
+    echo "== predicted vs measured (-j 1, np > $CORES oversubscribed, yield-when-idle off, $VROUNDS runs each) =="
     : >"$OUT/validate.txt"
     : >"$OUT/validate.jsonl"
     for job in "600 400 16 rows" "800 24 128 split"; do
@@ -144,104 +139,129 @@ if want validate; then
         W=$1 H=$2 S=$3 NAME=$4
         [ $QUICK -eq 0 ] || S=$((S / 2))
         args=(--width "$W" --height "$H" -s "$S" -j 1)
-        # the cost profile: one rank, one thread, nothing else of ours running
+        # the cost profile: one rank, one thread
         run 1 "${args[@]}" --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
             >"$OUT/val-$NAME-np1.out"
-        # Two ways of sharing 2 cores. Open MPI turns mpi_yield_when_idle on
-        # when it oversubscribes: every MPI progress call that finds nothing
-        # gives the core away, so a worker loses milliseconds per unit in its
-        # message loop (its "comm" seconds) while rank 0's render thread,
-        # which makes no MPI calls, keeps rendering. "noyield" turns it off,
-        # and the model needs nothing measured from these runs; for "yield"
-        # the model is given the workers' measured comm seconds per unit.
-        for mode in noyield yield; do
-            for np in 2 4 8; do
-                # yield-when-idle only differs when the ranks oversubscribe
-                [ $mode = yield ] && [ "$np" -le "$CORES" ] && continue
-                stats=() traces=()
-                for ((r = 1; r <= VROUNDS; r++)); do
-                    base=$OUT/val-$NAME-$mode-np$np-r$r
-                    if [ $mode = noyield ]; then
-                        OMPI_MCA_mpi_yield_when_idle=0 run "$np" "${args[@]}" --trace "$base.trace.json" \
-                            --stats "$base.stats.json" >"$base.out"
-                    else
-                        run "$np" "${args[@]}" --trace "$base.trace.json" --stats "$base.stats.json" >"$base.out"
-                    fi
-                    stats+=("$base.stats.json") traces+=("$base.trace.json")
-                done
-                slow=$(awk -v n="$np" -v c="$CORES" 'BEGIN {print (n > c ? n / c : 1)}')
-                ovh=0
-                if [ $mode = yield ]; then
-                    ovh=$($PY -c '
-import json, sys
-c = u = 0.0
-for f in sys.argv[1:]:
-    for r in json.load(open(f))["per_rank"][1:]:
-        c += r["comm_seconds"]
-        u += r["units"]
-print("%.6g" % (c / u if u else 0))' "${stats[@]}")
-                fi
-                $SIM --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
-                    --threads 1 --ranks "$np" --network shm --service-json "$OUT/serve.json" --slowdown "$slow" \
-                    --worker-overhead "$ovh" --compare "${stats[@]}" --compare-trace "${traces[@]}" \
-                    --summary "$OUT/validate.jsonl" \
-                    --label "$NAME job ${W}x${H}, $S spp, $mode, -np $np -j 1 (worker overhead $ovh s/unit)" |
-                    tee -a "$OUT/validate.txt"
+        for np in 2 4 8; do
+            stats=() traces=()
+            for ((r = 1; r <= VROUNDS; r++)); do
+                base=$OUT/val-$NAME-np$np-r$r
+                run "$np" "${args[@]}" --trace "$base.trace.json" --stats "$base.stats.json" >"$base.out"
+                stats+=("$base.stats.json") traces+=("$base.trace.json")
             done
+            slow=$(awk -v n="$np" -v c="$CORES" 'BEGIN {print (n > c ? n / c : 1)}')
+            $SIM --trace "$OUT/val-$NAME-np1.trace.json" --stats "$OUT/val-$NAME-np1.stats.json" \
+                --threads 1 --ranks "$np" --network shm --service-json "$OUT/serve.json" --pack-byte "$PACK" \
+                --slowdown "$slow" --compare "${stats[@]}" --compare-trace "${traces[@]}" \
+                --summary "$OUT/validate.jsonl" --label "$NAME job ${W}x${H}, $S spp, -np $np -j 1" |
+                tee -a "$OUT/validate.txt"
         done
     done
-    echo "== summary: measured (mean of $VROUNDS runs) / predicted ==" | tee -a "$OUT/validate.txt"
-    $PY - "$OUT/validate.jsonl" <<'EOF' | tee -a "$OUT/validate.txt"
+    echo "== summary: measured mean [min-max] / predicted ==" | tee -a "$OUT/validate.txt"
+    $PY - "$OUT/validate.jsonl" <<'PYEOF' | tee -a "$OUT/validate.txt"
 import json, sys
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.strip()]
-print("| job | mode | np | units (all runs) | rank 0 units | units per worker | rank 0 busy share | "
-      "messages to rank 0 | max/mean busy |")
+def rng(v, scale, fmt):
+    v = [x * scale for x in v]
+    s = fmt % (sum(v) / len(v))
+    return s if len(v) == 1 else s + (" [" + fmt + "-" + fmt + "]") % (min(v), max(v))
+print("| job | np | units | rank 0 units | rank 0 busy share | messages to rank 0 | MB to rank 0 | "
+      "serve CPU ms | final combination ms |")
 print("|---|---|---|---|---|---|---|---|---|")
 for r in rows:
     tot = r["units_total_measured"]
     same = all(t == r["units_total_predicted"] for t in tot)
-    parts = [x.strip() for x in r["label"].split(",")]
-    print("| %s | %s | %d | %s | %.1f / %d | %.1f / %.1f | %.1f%% / %.1f%% | %.1f / %d | %.3f / %.3f |" % (
-        parts[0] + ", " + parts[1], parts[2], r["ranks"],
+    print("| %s | %d | %s | %.1f / %d | %.1f%% / %.1f%% | %.1f / %d | %s / %.3f | %s / %.2f | %s / %.2f |" % (
+        r["label"].split(",")[0] + "," + r["label"].split(",")[1], r["ranks"],
         ("%d = %d" % (tot[0], r["units_total_predicted"])) if same else ("%s / %d" % (tot, r["units_total_predicted"])),
-        r["rank0_units_measured"], r["rank0_units_predicted"], r["worker_units_measured"], r["worker_units_predicted"],
-        r["rank0_share_measured"], r["rank0_share_predicted"], r["messages_measured"], r["messages_predicted"],
-        r["imbalance_measured"], r["imbalance_predicted"]))
-EOF
+        r["rank0_units_measured"], r["rank0_units_predicted"], r["rank0_share_measured"], r["rank0_share_predicted"],
+        r["messages_measured"], r["messages_predicted"], rng(r["bytes_measured"], 1e-6, "%.3f"),
+        r["bytes_predicted"] * 1e-6, rng(r["cpu_measured"], 1e3, "%.2f"), r["cpu_predicted"] * 1e3,
+        rng(r["fc_measured"], 1e3, "%.2f"), r["fc_predicted"] * 1e3))
+PYEOF
 fi
 
-# ---- predictions at scale -------------------------------------------------------
+# ---- predictions at scale ---------------------------------------------------------
 if want predict; then
     [ -f "$OUT/serve.json" ] || { echo "validate_scaling: run the serve part first (no $OUT/serve.json)" >&2; exit 1; }
     echo
-    # the cost profile: 1200x800 at 4 spp, 3 runs; the fastest is the one
-    # least slowed by whatever else shares this box
+    echo "== start-up and image writing (1200x800, -s 1; best of 3) =="
+    best_mpi="" best_wr="" best_set=""
+    for r in 1 2 3; do
+        # image writing: the PNG's temporary file opened to its rename; set-up
+        # (checks, scene, BVH build): -np 1, total - render - writing
+        strace -f -ttt -e trace=openat,rename -o "$TMP/st" "$BIN" --no-checkpoint -o "$TMP/w.png" --width 1200 \
+            --height 800 -s 1 -j "$CORES" -q >"$TMP/one"
+        wr=$(awk '/w\.png\.tmp.*O_CREAT/ {t0 = $2} /rename\(.*w\.png/ {t1 = $2} END {printf "%.4f", t1 - t0}' "$TMP/st")
+        set1=$(sed -n 's/^wall time: *\([0-9.]*\) s render, \([0-9.]*\) s total.*/\2 \1/p' "$TMP/one" |
+            awk -v w="$wr" '{printf "%.4f", $1 - $2 - w}')
+        # MPI start-up: mpirun -np 2's wall time - render - writing - set-up
+        # (mpirun's launch, MPI_Init, the scene's broadcast, the barrier
+        # before the render, MPI_Finalize)
+        t0=$(date +%s.%N)
+        out=$(run 2 --width 1200 --height 800 -s 1 -j 1)
+        tot=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN {printf "%.4f", b - a}')
+        ren=$(sed -n 's/^wall time: *\([0-9.]*\) s render.*/\1/p' <<<"$out")
+        mpi=$(awk -v t="$tot" -v r="$ren" -v w="$wr" -v s="$set1" 'BEGIN {x = t - r - w - s; printf "%.4f", (x > 0 ? x : 0)}')
+        echo "run $r: writing $wr s (under strace); -np 1 set-up $set1 s; mpirun -np 2 $tot s, render $ren s -> MPI start-up $mpi s"
+        if [ -z "$best_mpi" ] || awk -v a="$mpi" -v b="$best_mpi" 'BEGIN {exit !(a < b)}'; then best_mpi=$mpi; fi
+        if [ -z "$best_wr" ] || awk -v a="$wr" -v b="$best_wr" 'BEGIN {exit !(a < b)}'; then best_wr=$wr; fi
+        if [ -z "$best_set" ] || awk -v a="$set1" -v b="$best_set" 'BEGIN {exit !(a < b)}'; then best_set=$set1; fi
+    done
+    echo "set-up (scene, BVH) $best_set s, MPI start-up $best_mpi s, image writing $best_wr s (the best of each)"
+    printf '{"setup_s": %s, "startup_s": %s, "write_s": %s}\n' "$best_set" "$best_mpi" "$best_wr" >"$OUT/overhead.json"
+    echo
     echo "== calibration: 1200x800, 4 spp, -j $CORES, fastest of 3 =="
-    best=""
+    best="" bw=""
     for r in 1 2 3; do
         run 1 --width 1200 --height 800 -s 4 -j "$CORES" --trace "$OUT/cal-r$r.trace.json" \
             --stats "$OUT/cal-r$r.stats.json" >"$OUT/cal-r$r.out"
-        w=$(render_wall <"$OUT/cal-r$r.out")
+        w=$(jget "$OUT/cal-r$r.stats.json" render_seconds)
         echo "run $r: $w s render"
         if [ -z "$best" ] || awk -v a="$w" -v b="$bw" 'BEGIN {exit !(a < b)}'; then best=$r bw=$w; fi
     done
-    cp "$OUT/cal-r$best.trace.json" "$OUT/cal.trace.json"
     cp "$OUT/cal-r$best.stats.json" "$OUT/cal.stats.json"
-    for job in "1200 800" "3840 2160"; do
+    PACK=$(jget "$OUT/serve.json" pack_byte_s)
+    # set-up inside the render phase: the scene broadcast and BVH build are
+    # part of the measured start-up; the whole start-up is an upper bound
+    # the cost profile: each row's cheapest of the 3 runs (a unit another
+    # process preempted looks up to 4x dearer on this shared box)
+    common=(--trace "$OUT"/cal-r[123].trace.json --stats "$OUT/cal.stats.json" --threads 16 --ranks 64,256,1024,4096
+        --service-json "$OUT/serve.json" --pack-byte "$PACK")
+    # 4K jobs with 1 s of work per thread at 1024 x 16 and at 4096 x 16 here
+    spp1s=$($PY - "$ROOT/tools" "$OUT"/cal-r[123].trace.json <<'PYEOF'
+import sys
+sys.path.insert(0, sys.argv[1])
+import simulate_scaling as sim
+prof = None
+for path in sys.argv[2:]:
+    p = sim.cost_profile(sim.load_trace(path), 1200, 2, 800)
+    prof = p if prof is None else [min(x, y) for x, y in zip(prof, p)]
+per_spp = sim.Job(prof, 3840, 2160, 1).total
+print(" ".join(str(int(-(-n * 16 // per_spp))) for n in (1024, 4096)))
+PYEOF
+)
+    set -- $spp1s
+    jobs=("1200 800 500" "3840 2160 500" "3840 2160 4500" "3840 2160 $1" "3840 2160 $2")
+    for job in "${jobs[@]}"; do
         set -- $job
+        name=$1x$2-$3
         echo
-        $SIM --trace "$OUT/cal.trace.json" --stats "$OUT/cal.stats.json" --width "$1" --height "$2" --samples 500 \
-            --threads 16 --ranks 1-4096 --service-json "$OUT/serve.json" --json "$OUT/predict-$1x$2.json" |
-            tee "$OUT/predict-$1x$2.txt"
-    done
-    # the same with a rank 0 that is not sharing its cores: an assumed
-    # 5 us per result + 0.2 ns per byte (5 GB/s receive and accumulate)
-    for job in "1200 800" "3840 2160"; do
-        set -- $job
-        echo
-        echo "-- $1x$2 with an assumed faster rank 0 (5 us + 0.2 ns/byte per result) --"
-        $SIM --trace "$OUT/cal.trace.json" --stats "$OUT/cal.stats.json" --width "$1" --height "$2" --samples 500 \
-            --threads 16 --ranks 64,256,1024 --service-msg 5e-6 --service-byte 0.2e-9 \
-            --json "$OUT/predict-fast-$1x$2.json" | tail -n +3 | tee "$OUT/predict-fast-$1x$2.txt"
+        echo "-- $1x$2, $3 spp: as built (E: render phase with set-up; E+: also MPI start-up and image writing) --"
+        $SIM "${common[@]}" --width "$1" --height "$2" --samples "$3" --setup "$best_set" --startup "$best_mpi" \
+            --write "$best_wr" --json "$OUT/predict-$name.json" | tee "$OUT/predict-$name.txt"
+        # not built: a shorter flush interval; fewer or more units per rank;
+        # rank 0 reading reports before sums; a quarter of rank 0's cost per
+        # byte (what per-node aggregation of 4 ranks, or a receive path 4x
+        # faster than this shared box's, would give: an assumption)
+        b4=$(awk -v b="$(jget "$OUT/serve.json" byte_s)" 'BEGIN {printf "%.4g", b / 4}')
+        for change in "--flush-interval 0.1" "--flush-interval 0.1 --units-per-rank 4" \
+            "--flush-interval 0.1 --units-per-rank 16" "--flush-interval 0.1 --reports-first" \
+            "--flush-interval 0.1 --service-byte $b4"; do
+            echo "-- $1x$2, $3 spp, not built: $change --"
+            $SIM "${common[@]}" --width "$1" --height "$2" --samples "$3" --setup "$best_set" $change \
+                --policies split,affinity --json "$OUT/predict-$name-${change// /}.json" | tail -n +6 |
+                grep -v '^rank 0' | tee "$OUT/predict-$name-${change// /}.txt"
+        done
     done
 fi

@@ -1,6 +1,11 @@
 #!/usr/bin/python3
 """test_simulate_scaling.py [RT_MPI_SERIAL] - tools/simulate_scaling.py on
-cases whose answer is known by hand: equal unit costs that divide evenly over
+cases whose answer is known by hand. The farm as built (v2): rank 0's
+messages and bytes for a one-worker job, its makespan and final combination
+from the per-message, per-byte and packing costs, the flush interval and
+flush-mb, a row's sample ranges extending one piece, the split sending rows
+again and affinity keeping them together, beats. The old model (v1, kept to
+reproduce old predictions): equal unit costs that divide evenly over
 the ranks (efficiency 1), a static split with one slow block (efficiency
 0.5), the request/reply round trip with prefetch 1 and 2, the poll back-off,
 the cost profile's scaling to other image sizes, determinism; and, given the
@@ -37,7 +42,7 @@ def close(a, b, tol=1e-9):
 def ideal(**kw):
     """No latency, no service time, no naps: only the schedule matters."""
     d = dict(threads=1, latency=0.0, bandwidth=math.inf, service_msg=0.0, service_byte=0.0, prefetch=2,
-             nap_base=0.0, nap_cap=0.0, nap_slack=0.0, probe_miss=0)
+             nap_base=0.0, nap_cap=0.0, nap_slack=0.0, probe_miss=0, farm="v1")
     d.update(kw)
     return sim.Model(**d)
 
@@ -141,7 +146,69 @@ for y0, y1, s0, s1 in us:
 check("make_units covers every row x sample once (97 rows, 64 ranks)", cover == {y: 10 for y in range(97)})
 check("make_units: band 5 never exceeds 5 rows", max(u[1] - u[0] for u in sim.make_units(97, 10, 7, band=5)) == 5)
 
-# 8. the command line, on a synthetic trace
+# 8. the farm as built (v2): 32-byte reports, sums held and sent per flush.
+#    Serve-only, one worker, prefetch 1, 64 one-row units of 10 pixels at
+#    4 spp, 40 us each (the job above); L = 0, no naps.
+def v2(**kw):
+    d = dict(farm="v2", band=1, prefetch=1, serve_only=True, flush_interval=10.0, pack_byte=0.0)
+    d.update(kw)
+    return ideal(**d)
+
+
+piece = 40 + 8 + 10 * 24  # header, one unit id, a row of sums
+r = sim.simulate(job, 2, v2(), "bands")
+check("v2: hello + 64 reports + 1 flush + bye = 67 messages", r["messages"] == 67, str(r["messages"]))
+want = 4 + 64 * 32 + 64 * piece + 32
+check("v2: bytes 4 + 64 x 32 + 64 pieces x %d + 32 = %d" % (piece, want), r["bytes"] == want, str(r["bytes"]))
+check("v2: one sums message, sent when rank 0 has nothing left (IDLE)", r["sums_messages"] == 1,
+      str(r["sums_messages"]))
+a, b, p = 3e-6, 1e-9, 2e-9
+r = sim.simulate(job, 2, v2(service_msg=a, service_byte=b), "bands")
+want = (a + 4 * b) + 64 * (40e-6 + a + 32 * b) + a + 64 * piece * b
+check("v2: makespan (a + 4 b) + n (c + a + 32 b) + a + B b (hello, units, flush; serve-only, prefetch 1)", close(r["makespan"], want, 1e-12),
+      "(%r vs %r)" % (r["makespan"], want))
+check("v2: final combination a + B b", close(r["final_combine"], a + 64 * piece * b, 1e-12), str(r["final_combine"]))
+check("v2: serve CPU a x messages + b x bytes", close(r["serve_cpu"], a * r["messages"] + b * r["bytes"], 1e-12))
+r = sim.simulate(job, 2, v2(service_msg=a, service_byte=b, pack_byte=p), "bands")
+check("v2: the worker packs its flush first: + B p", close(r["final_combine"], a + 64 * piece * (b + p), 1e-12),
+      str(r["final_combine"]))
+# the flush interval, 0.99 ms: flushes at its ticks (0.99 ms: 24 units done;
+# 1.98 ms: 25 more), then the last 15 when rank 0 says IDLE
+r = sim.simulate(job, 2, v2(flush_interval=0.99e-3), "bands")
+check("v2: flush interval 0.99 ms: 3 sums messages", r["sums_messages"] == 3, str(r["sums_messages"]))
+check("v2: ... and still 64 pieces in all", r["sums_bytes"] == 64 * piece, str(r["sums_bytes"]))
+# flush-mb: 16 rows' worth (3840 B) -> a flush after every 16th unit, none left for IDLE
+r = sim.simulate(job, 2, v2(flush_bytes=16 * 240), "bands")
+check("v2: flush-mb of 16 rows: 4 sums messages", r["sums_messages"] == 4, str(r["sums_messages"]))
+# a row's two sample ranges on the one worker extend one piece (2 ids):
+# 8 rows < 8 x 2 ranks -> 2 ranges a row; sums = one image, not two
+r = sim.simulate(job8, 2, v2(), "split")
+check("v2 split, one worker: 16 units", r["units"] == 16, str(r["units"]))
+check("v2 split, one worker: consecutive ranges are one piece: 8 x (48 + 8 + 240) bytes",
+      r["sums_bytes"] == 8 * (48 + 8 + 240), str(r["sums_bytes"]))
+# ranges of a row on different ranks each send the row: 4 ranges a row
+job4 = sim.Job([1e-6] * 16, 10, 16, 64)
+rs = sim.simulate(job4, 8, v2(), "split")
+ra = sim.simulate(job4, 8, v2(), "affinity")
+rb = sim.simulate(job4, 8, v2(), "bands")
+img = 16 * 240
+check("v2 split on 8 ranks: %d units, sums of at least 3 images" % rs["units"],
+      rs["units"] == 64 and rs["sums_bytes"] >= 3 * img, "%d units, %d bytes" % (rs["units"], rs["sums_bytes"]))
+check("v2 bands: sums of about one image", img <= rb["sums_bytes"] <= img + 16 * 56, str(rb["sums_bytes"]))
+check("v2 affinity: a row's ranges mostly stay together: less than half split's bytes (%d vs %d)"
+      % (ra["sums_bytes"], rs["sums_bytes"]), 2 * ra["sums_bytes"] < rs["sums_bytes"])
+check("v2 affinity: same units, efficiency within 5%% of split (%.3f vs %.3f)" % (ra["efficiency"], rs["efficiency"]),
+      ra["units"] == rs["units"] and ra["efficiency"] > 0.95 * rs["efficiency"])
+# equal costs, rank 0 renders too: as balanced as v1
+r = sim.simulate(job, 4, ideal(band=1, prefetch=1, farm="v2"), "split")
+check("v2: equal costs, 64 units on 4 ranks: efficiency 1, 16 units each",
+      close(r["efficiency"], 1.0) and r["per_rank_units"] == [16] * 4, "%r %r" % (r["efficiency"], r["per_rank_units"]))
+# an idle worker beats every lease/4: one worker with nothing to do for 1 s
+slow1 = sim.Job([1.05 / 10 / 4] + [1e-9] * 3, 10, 4, 4)  # row 0 takes 1.05 s, the rest nothing
+r = sim.simulate(slow1, 2, ideal(band=1, prefetch=1, farm="v2", lease=0.4, flush_interval=10.0), "bands")
+check("v2: a worker idle for 1.05 s beats 10 times (lease 0.4 s)", r["beats"] == 10, str(r["beats"]))
+
+# 9. the command line, on a synthetic trace
 with tempfile.TemporaryDirectory() as tmp:
     tr = os.path.join(tmp, "t.json")
     synthetic_trace(tr, 20, 32, 4, lambda y: 1e-6)
@@ -160,8 +227,18 @@ with tempfile.TemporaryDirectory() as tmp:
     p = subprocess.run([sys.executable, os.path.join(HERE, "..", "..", "tools", "simulate_scaling.py"), "--trace", tr],
                        capture_output=True, text=True)
     check("CLI: refuses a trace without width/threads", p.returncode != 0)
+    out1 = os.path.join(tmp, "v1.json")
+    p = subprocess.run([sys.executable, os.path.join(HERE, "..", "..", "tools", "simulate_scaling.py"), "--trace", tr,
+                        "--trace-width", "20", "--trace-threads", "1", "--threads", "1", "--ranks", "4", "--farm", "v1",
+                        "--json", out1], capture_output=True, text=True)
+    check("CLI: --farm v1 (the old model) runs", p.returncode == 0, p.stderr)
+    if p.returncode == 0:
+        d = json.load(open(out1))
+        check("CLI: --farm v1 simulates static, bands, split with the v1 model",
+              d["model"]["farm"] == "v1" and sorted(d["results"][0]) == ["bands", "ranks", "split", "static"],
+              str(sorted(d["results"][0])))
 
-    # 9. the real schedule: units of rt-mpi-serial's trace == make_units
+    # 10. the real schedule: units of rt-mpi-serial's trace == make_units
     if len(sys.argv) > 1:
         check("rt-mpi-serial given is executable: " + sys.argv[1], os.access(sys.argv[1], os.X_OK))
         for w, h, s, band, passes in ((64, 40, 4, 0, 1), (32, 5, 8, 0, 1), (16, 3, 20, 0, 1), (24, 37, 2, 5, 1),
