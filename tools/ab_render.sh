@@ -26,22 +26,8 @@ if [ "${1:-}" = --rounds ]; then
     shift 2
 fi
 [[ $ROUNDS =~ ^[1-9][0-9]*$ ]] || { echo "ab_render.sh: --rounds must be a positive number" >&2; exit 2; }
-COMMIT=$(git -C "$ROOT" rev-parse --verify -q "$REV^{commit}") || { echo "ab_render.sh: no git revision '$REV'" >&2; exit 2; }
-mkdir -p "$DIR"
-CMAKE_OPTS=(-DRT_MPI=OFF -DBUILD_TESTING=OFF)
-# B's sources: REV's tree, unpacked again only when REV names another commit.
-if [ "$(cat "$DIR/b.commit" 2>/dev/null)" != "$COMMIT" ]; then
-    rm -rf "$DIR/src-b" "$DIR/b"
-    mkdir -p "$DIR/src-b"
-    git -C "$ROOT" archive "$COMMIT" | tar -x -C "$DIR/src-b"
-    echo "$COMMIT" >"$DIR/b.commit"
-fi
-build() { # build SRC_ROOT BUILD_DIR
-    RT_BUILD_TARGET=rt-mpi "$1/scripts/setup.sh" "$2" "${CMAKE_OPTS[@]}" >/dev/null 2>"$2.log" ||
-        { tail -20 "$2.log" >&2; echo "ab_render.sh: the build in $2 failed" >&2; exit 2; }
-}
-build "$ROOT" "$DIR/a"
-build "$DIR/src-b" "$DIR/b"
+build_a_b ab_render.sh "$ROOT" "$REV" "$DIR" -DRT_MPI=OFF -DBUILD_TESTING=OFF
+COMMIT=$(cat "$DIR/b.commit")
 OPTS=(--width 600 --height 400 -s 16 -j 1 "$@")
 run() { # run a|b: appends the rate to $DIR/rates.X, the image hash to $DIR/hash.X
     "$DIR/$1/rt-mpi" "${OPTS[@]}" --no-checkpoint -o "$DIR/$1.png" >"$DIR/$1.out" 2>&1 ||

@@ -33,20 +33,8 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-COMMIT=$(git -C "$ROOT" rev-parse --verify -q "$REV^{commit}") || { echo "bench_farm.sh: no revision '$REV'" >&2; exit 2; }
-mkdir -p "$DIR"
-if [ "$(cat "$DIR/b.commit" 2>/dev/null)" != "$COMMIT" ]; then
-    rm -rf "$DIR/src-b" "$DIR/b"
-    mkdir -p "$DIR/src-b"
-    git -C "$ROOT" archive "$COMMIT" | tar -x -C "$DIR/src-b"
-    echo "$COMMIT" >"$DIR/b.commit"
-fi
-build() { # SRC_ROOT BUILD_DIR
-    RT_BUILD_TARGET=rt-mpi "$1/scripts/setup.sh" "$2" -DBUILD_TESTING=OFF >/dev/null 2>"$2.log" ||
-        { tail -20 "$2.log" >&2; echo "bench_farm.sh: the build in $2 failed" >&2; exit 2; }
-}
-build "$ROOT" "$DIR/a"
-build "$DIR/src-b" "$DIR/b"
+build_a_b bench_farm.sh "$ROOT" "$REV" "$DIR" -DBUILD_TESTING=OFF
+COMMIT=$(cat "$DIR/b.commit")
 source "$ROOT/scripts/mpi_env.sh"
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT

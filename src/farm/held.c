@@ -84,8 +84,6 @@ int rt_held_add(rt_held *h, const rt_unit *u, const int64_t *sums)
     memcpy(p->sums, sums, n * sizeof *sums);
     h->n++;
     h->bytes += n * sizeof *sums;
-    if (h->bytes > h->peak)
-        h->peak = h->bytes;
     return RT_OK;
 }
 

@@ -26,7 +26,6 @@ typedef struct rt_held {
     rt_piece *pieces;
     size_t n, cap;
     size_t bytes; /* of sums held now */
-    size_t peak;  /* the most bytes ever held at once */
 } rt_held;
 
 void rt_held_init(rt_held *h, uint32_t width);

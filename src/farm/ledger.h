@@ -46,7 +46,5 @@ int rt_ledger_in(rt_ledger *L, int rank, uint32_t id);
 uint32_t rt_ledger_lose(rt_ledger *L, int rank);
 /* Every unit of pass k (0-based) is done or in. */
 int rt_ledger_pass_done(const rt_ledger *L, uint32_t k);
-/* Units waiting to be handed out again. */
-static inline size_t rt_ledger_requeued(const rt_ledger *L) { return L->n_requeue; }
 
 #endif

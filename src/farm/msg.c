@@ -23,5 +23,3 @@ int rt_msg_probe(int source, int *flag, MPI_Status *status)
         rc = MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, flag, status);
     return rc;
 }
-
-int rt_msg_signal(int dest, int tag) { return MPI_Send(NULL, 0, MPI_BYTE, dest, tag, MPI_COMM_WORLD); }

@@ -51,7 +51,5 @@ enum {
 void rt_msg_nap(int *idle);
 /* MPI_Iprobe for any tag from source, twice (see msg.c). */
 int rt_msg_probe(int source, int *flag, MPI_Status *status);
-/* An empty message; MPI's status. */
-int rt_msg_signal(int dest, int tag);
 
 #endif

@@ -16,6 +16,9 @@
 # Each daemon sits in its own network namespace, so the standard ports
 # (6817/6818) collide neither with each other nor with a Slurm of the machine.
 
+# slurm_conf_policy: the scheduling and timeout settings both clusters use
+source "$(dirname "${BASH_SOURCE[0]}")/../slurm/slurm_env.sh"
+
 CSLURM_PIDS=()
 
 cslurm() { # HOST CMD...: a client command on HOST with our SLURM_CONF
@@ -75,29 +78,8 @@ SlurmctldLogFile=$d/log/slurmctld.log
 SlurmdLogFile=$d/log/slurmd-%n.log
 SlurmctldDebug=info
 SlurmdDebug=info
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-SchedulerType=sched/backfill
-SchedulerParameters=sched_interval=2,bf_interval=1
-MpiDefault=pmix
-ReturnToService=2
-JobRequeue=1
-AccountingStorageType=accounting_storage/none
-JobAcctGatherType=jobacct_gather/none
-JobCompType=jobcomp/none
-SlurmctldTimeout=300
-SlurmdTimeout=300
-MessageTimeout=60
-BatchStartTimeout=60
-TCPTimeout=10
-InactiveLimit=0
-Waittime=0
-MinJobAge=600
-KillWait=10
-OverTimeLimit=0
 EOF
+        slurm_conf_policy pmix 10
         for h in "${hosts[@]}"; do
             echo "NodeName=$h NodeAddr=$(cat "$RT_CLUSTER/hosts/$h.addr") $hw State=UNKNOWN"
         done

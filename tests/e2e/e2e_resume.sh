@@ -69,14 +69,7 @@ if [ -n "$MPIRUN" ]; then
     "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${K[@]}" -j 1 -o "$out" --checkpoint-interval 3600 \
         >/dev/null 2>"$WORK/kill9.err" &
     pid=$!
-    victim=""
-    for ((i = 0; i < 100; i++)); do # rank 1, found by its environment
-        [ -n "$victim" ] && break
-        sleep 0.1
-        for p in $(pgrep -f -- "-o $out"); do
-            tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1' && victim=$p
-        done
-    done
+    victim=$(rank_pid "-o $out" 1)
     if [ -n "$victim" ]; then
         sleep 1.5 # let some rows complete
         t0=$(date +%s)

@@ -20,18 +20,12 @@ whole=$(echo "$(date +%s.%N) - $t0" | bc)
 
 lose_rank() { # label signal rank
     local label=$1 sig=$2 rank=$3 out="$WORK/$1.png"
-    local t0 victim=""
+    local t0 victim
     t0=$(date +%s.%N)
     timeout 120 "$MPIRUN" --enable-recovery -np 3 --bind-to none "$BIN" "${K[@]}" -j 1 --lease 2 -o "$out" \
         >"$WORK/$label.out" 2>"$WORK/$label.err" &
     local pid=$!
-    for ((i = 0; i < 100; i++)); do
-        [ -n "$victim" ] && break
-        sleep 0.1
-        for p in $(pgrep -f -- "-o $out"); do
-            tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$rank" && victim=$p
-        done
-    done
+    victim=$(rank_pid "-o $out" "$rank")
     [ -n "$victim" ] || { fail "$label: rank $rank not found"; kill $pid; wait $pid; return; }
     sleep 1.5 # mid-render: the whole job takes about 4 s here
     kill -"$sig" "$victim"
@@ -46,7 +40,8 @@ lose_rank() { # label signal rank
     grep -q "^lost ranks: *1" "$WORK/$label.out" && pass "$label: the summary counts the lost rank" ||
         fail "$label: summary: $(grep -m1 lost "$WORK/$label.out")"
     echo "  $label: ${took} s wall with the loss against ${whole} s without: $(echo "$took - $whole" | bc) s lost (lease 2 s)"
-    [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" || fail "$label: checkpoint left"
+    [ $status -ne 0 ] || { [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" ||
+        fail "$label: checkpoint left"; }
     pgrep -f -- "-o $out" >/dev/null && { fail "$label: processes left behind"; pkill -9 -f -- "-o $out"; } ||
         pass "$label: no process left behind"
 }

@@ -33,6 +33,39 @@ SLURM_ENV_MPI=""
 SLURM_ENV_CLUSTER=rtmpi-test
 SLURM_ENV_WATCHDOG=""  # pid of the reaper that cleans up if our shell is SIGKILLed
 
+# The scheduling, plugin and timeout settings every private test cluster
+# uses (this one and tests/cluster/slurm_cluster.sh), as slurm.conf lines on
+# stdout: slurm_conf_policy MPI_PLUGIN KILLWAIT_SECONDS
+slurm_conf_policy() {
+    cat <<EOF
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+SchedulerType=sched/backfill
+# fast scheduling so tests do not sit in PENDING (defaults: 60 s / 30 s)
+SchedulerParameters=sched_interval=2,bf_interval=1
+MpiDefault=$1
+ReturnToService=2
+JobRequeue=1
+AccountingStorageType=accounting_storage/none
+JobAcctGatherType=jobacct_gather/none
+JobCompType=jobcomp/none
+# generous timeouts: a loaded 2-core CI box must not mark a node down
+SlurmctldTimeout=300
+SlurmdTimeout=300
+MessageTimeout=60
+BatchStartTimeout=60
+TCPTimeout=10
+InactiveLimit=0
+Waittime=0
+# keep finished jobs visible to 'scontrol show job' for 10 minutes
+MinJobAge=600
+KillWait=$2
+OverTimeLimit=0
+EOF
+}
+
 _slurm_log() { printf '[slurm_env] %s\n' "$*" >&2; }
 
 # slurm_install: install slurm-wlm + munge (and openmpi-bin) when missing.
@@ -158,31 +191,7 @@ SlurmctldLogFile=$d/log/slurmctld.log
 SlurmdLogFile=$d/log/slurmd.log
 SlurmctldDebug=info
 SlurmdDebug=info
-ProctrackType=proctrack/linuxproc
-TaskPlugin=task/none
-SelectType=select/cons_tres
-SelectTypeParameters=CR_Core
-SchedulerType=sched/backfill
-# fast scheduling so tests do not sit in PENDING (defaults: 60 s / 30 s)
-SchedulerParameters=sched_interval=2,bf_interval=1
-MpiDefault=$SLURM_ENV_MPI
-ReturnToService=2
-JobRequeue=1
-AccountingStorageType=accounting_storage/none
-JobAcctGatherType=jobacct_gather/none
-JobCompType=jobcomp/none
-# generous timeouts: a loaded 2-core CI box must not mark the node down
-SlurmctldTimeout=300
-SlurmdTimeout=300
-MessageTimeout=60
-BatchStartTimeout=60
-TCPTimeout=10
-InactiveLimit=0
-Waittime=0
-# keep finished jobs visible to 'scontrol show job' for 10 minutes
-MinJobAge=600
-KillWait=${SLURM_ENV_KILLWAIT:-10}
-OverTimeLimit=0
+$(slurm_conf_policy "$SLURM_ENV_MPI" "${SLURM_ENV_KILLWAIT:-10}")
 NodeName=$SLURM_ENV_NODE NodeAddr=127.0.0.1 $hwspec State=UNKNOWN
 PartitionName=$SLURM_ENV_PARTITION Nodes=$SLURM_ENV_NODE Default=YES MaxTime=INFINITE State=UP
 EOF

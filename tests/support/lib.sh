@@ -49,3 +49,14 @@ expect_refusal() { # want label pattern command...
     fi
 }
 expect_usage_error() { expect_refusal 2 "$@"; } # label pattern command...
+# The PID of MPI rank RANK among the processes whose command line contains
+# TEXT, found by its environment; waits up to 10 s, prints nothing if none.
+rank_pid() { # text rank
+    local p i
+    for ((i = 0; i < 100; i++)); do
+        sleep 0.1
+        for p in $(pgrep -f -- "$1"); do
+            tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2" && { echo "$p"; return; }
+        done
+    done
+}
