@@ -34,7 +34,7 @@ static int pick_threads(const rt_farm *f, const rt_options *o, char *err, size_t
  * output format's own pixels (up to 12 bytes: float RGB). */
 static int check_memory(const rt_job *j, char *err, size_t errlen)
 {
-    double need = (double)j->width * j->height * (3 * sizeof(int64_t) + 3 + 12);
+    double need = (double)j->width * j->height * ((rt_job_layout(j).ch + 3) * sizeof(int64_t) + 3 + 12);
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0;
     if (have > 0 && need > 0.9 * have) {

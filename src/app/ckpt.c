@@ -35,7 +35,7 @@ int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen)
 void rt_run_ckpt_framebuffer(rt_run *run)
 {
     const rt_options *o = &run->opt;
-    size_t n = (size_t)o->job.width * o->job.height * 3;
+    size_t n = (size_t)o->job.width * o->job.height * rt_job_layout(&o->job).ch;
     run->acc = rt_mem_zeroed(n * sizeof *run->acc);
     if (!run->acc)
         rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", o->job.width,

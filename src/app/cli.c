@@ -63,6 +63,10 @@ const char *rt_cli_usage(void)
            "                           .bmp, or .pfm/.exr (linear float) [default: output.png]\n"
            "      --bit-depth <BITS>   8 or 16 bits per channel (.png and .ppm) [default: 8]\n"
            "      --ppm-ascii          Write .ppm as ASCII P3, as the book does (default: binary P6)\n"
+           "      --aov <LIST>         Also write what a denoiser needs: albedo, normal or both\n"
+           "                           (albedo,normal), as OUTPUT.albedo.pfm and OUTPUT.normal.pfm\n"
+           "                           (.exr beside an .exr output): the first non-specular hit,\n"
+           "                           averaged over the pixel's samples\n"
            "  -q, --quiet              No progress output on stderr\n"
            "\n"
            "Scene:\n"
@@ -87,6 +91,11 @@ const char *rt_cli_usage(void)
            "      --roulette           Russian roulette (unbiased) of dim paths after 3 bounces\n"
            "                           [default: on with sobol, off with random]\n"
            "      --no-roulette        No Russian roulette\n"
+           "      --noise-threshold <X>  Adaptive sampling: a pixel stops at 16, 32, 64, ... samples\n"
+           "                           once the estimated relative error of its mean is below X\n"
+           "                           (0.01 to 0.1 are useful); -s is the most [default: off]\n"
+           "      --spp-map <FILE>     With --noise-threshold: write each pixel's samples over -s\n"
+           "                           as an image (gamma 2 in PNG, PPM, BMP; linear in PFM, EXR)\n"
            "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
            "                           image, rewriting a preview after each [default: 1]\n"
            "      --preview <FILE>     Preview image of --passes [default: the output]\n"
@@ -235,6 +244,9 @@ static const optdef OPTS[] = {
     {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
+    {"noise-threshold", 0, K_CHOICE, 0, 0, 0},
+    {"spp-map", 0, K_PATH, F(spp_map), 0, 0},
+    {"aov", 0, K_CHOICE, 0, 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
     {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
     {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
@@ -286,6 +298,32 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             return RT_EINVAL;
         }
         o->bit_depth = val[0] == '8' ? 8 : 16;
+    } else if (!strcmp(d->lng, "noise-threshold")) {
+        char *end;
+        double v = strtod(val, &end);
+        if (end == val || *end || !(v > 0.0 && v <= 1.0)) {
+            snprintf(err, errlen, "%s: '%s' is not a number above 0 and at most 1", name, val);
+            return RT_EINVAL;
+        }
+        o->job.noise_threshold = v;
+    } else if (!strcmp(d->lng, "aov")) {
+        o->job.aov = 0;
+        for (const char *p = val; *p;) {
+            size_t n = strcspn(p, ",");
+            if (n == 6 && !strncmp(p, "albedo", 6)) {
+                o->job.aov |= RT_AOV_ALBEDO;
+            } else if (n == 6 && !strncmp(p, "normal", 6)) {
+                o->job.aov |= RT_AOV_NORMAL;
+            } else {
+                snprintf(err, errlen, "%s: '%.*s' is not albedo or normal", name, (int)n, p);
+                return RT_EINVAL;
+            }
+            p += n + (p[n] == ',');
+        }
+        if (!o->job.aov) {
+            snprintf(err, errlen, "%s: name albedo, normal or both (albedo,normal)", name);
+            return RT_EINVAL;
+        }
     } else { /* scene */
         int known = 0;
         for (unsigned i = 0; i < rt_scenes_count(); i++)
@@ -443,6 +481,15 @@ static int settle_run(rt_options *o, char *err, size_t errlen)
     }
     if (o->preview && o->passes < 2) {
         snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
+        return RT_EINVAL;
+    }
+    if (o->job.noise_threshold > 0.0 && o->passes > 1) {
+        snprintf(err, errlen, "--passes: progressive passes do not combine with --noise-threshold (a pixel's "
+                              "samples are rendered in one go, so that where it stops depends on it alone)");
+        return RT_EINVAL;
+    }
+    if (o->spp_map && !(o->job.noise_threshold > 0.0)) {
+        snprintf(err, errlen, "--spp-map: the samples per pixel vary only with --noise-threshold");
         return RT_EINVAL;
     }
     if (o->passes > o->job.samples) {
@@ -604,6 +651,8 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
 int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
 {
     if (check_image_path("--output", o->output, o, err, errlen))
+        return RT_EINVAL;
+    if (o->spp_map && check_image_path("--spp-map", o->spp_map, o, err, errlen))
         return RT_EINVAL;
     return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;
 }

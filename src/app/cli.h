@@ -41,6 +41,7 @@ typedef struct rt_options {
     int serve_only;
     uint32_t passes;
     const char *preview; /* progressive preview file; NULL = the output */
+    const char *spp_map; /* adaptive sampling: each pixel's samples as an image, or NULL */
     const char *scene;      /* named scene (scenes.h); "final" when no scene file is given */
     const char *scene_file; /* JSON scene file instead of a named scene */
     const char *dump_scene; /* write the scene as JSON here, then exit */

@@ -242,6 +242,18 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     add_num(doc, "total_seconds", s->total_wall, &ok);
     add_u64(doc, "ray_segments", s->segments, &ok);
     add_num(doc, "segments_per_second", s->wall > 0 ? (double)s->segments / s->wall : 0.0, &ok);
+    if (s->spp) {
+        cJSON *a = cJSON_CreateObject(), *by = cJSON_CreateObject();
+        add(doc, "adaptive", a, &ok);
+        add_num(a, "noise_threshold", s->job->noise_threshold, &ok);
+        add_num(a, "mean_samples_per_pixel", s->spp->mean, &ok);
+        add(a, "pixels_by_samples", by, &ok);
+        for (uint32_t k = 0; k < s->spp->n_levels; k++) {
+            char key[16];
+            snprintf(key, sizeof key, "%u", s->spp->count[k]);
+            add_u64(by, key, s->spp->pixels[k], &ok);
+        }
+    }
     add_origin(doc, &s->origin, &ok);
     if (s->farm) {
         add_u64(doc, "rank0_messages_in", s->farm->msgs_in, &ok);

@@ -37,7 +37,19 @@ typedef struct rt_run_summary {
     const rt_rank_stats *per_rank;
     rt_report_origin origin;
     const rt_farm_result *farm; /* rank 0's serving, lost ranks */
+    const struct rt_spp_stats *spp; /* adaptive sampling, or NULL */
 } rt_run_summary;
+
+/* Where adaptive sampling put the samples: the mean per pixel, and how
+ * many pixels stopped at each count (RT_ADAPT_FIRST << k; the last level
+ * holds the pixels that took all -s). */
+#define RT_SPP_LEVELS 24
+typedef struct rt_spp_stats {
+    double mean;
+    uint32_t n_levels;
+    uint32_t count[RT_SPP_LEVELS];  /* samples of level k */
+    uint64_t pixels[RT_SPP_LEVELS]; /* pixels that took them */
+} rt_spp_stats;
 
 /* RT_EUNSUPPORTED in a build without cJSON (the option parser refuses
  * --stats and --trace there first). */

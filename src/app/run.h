@@ -82,6 +82,10 @@ void rt_run_ckpt_done(const rt_run *run);
 /* summary.c: rank 0 after the render: the image file, the checkpoint
  * (removed or kept), the summary on stdout, --stats and --trace. */
 void rt_run_finish(rt_run *run);
+/* The three values at `first` of every pixel of acc (the colour 0, or an
+ * AOV, run->renderer.lay) as 3 sums per pixel of the job's samples
+ * (rt_image_extract); NULL when out of memory. Free with rt_mem_free. */
+int64_t *rt_run_values(const rt_run *run, const int64_t *acc, uint32_t first);
 
 void rt_run_free(rt_run *run);
 

@@ -118,7 +118,16 @@ static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *
     snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->job.samples);
     rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
     rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, 2};
-    int st = rt_image_write_rows(path, acc, o->job.width, o->job.height, committed, &wo);
+    const rt_run *run = ctx;
+    const size_t n = (size_t)o->job.width * o->job.height * 3;
+    int64_t *colour = (int64_t *)acc;
+    if (run->renderer.lay.ch != 3 && !(colour = rt_run_values(run, acc, 0))) {
+        fprintf(stderr, "rt-mpi: warning: no memory for preview %s\n", path);
+        return;
+    }
+    int st = rt_image_write_rows(path, colour, o->job.width, o->job.height, committed, &wo);
+    if (colour != acc)
+        rt_mem_free(colour, n * sizeof *colour);
     if (st)
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
 }

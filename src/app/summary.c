@@ -21,7 +21,7 @@
  * it goes (-o), so the file is byte-identical however it was rendered. */
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
-    char scene[320], grid[32] = "", format[48] = "";
+    char scene[320], grid[32] = "", format[48] = "", adapt[48] = "";
     /* the roulette only when it is not the sampler's default */
     const char *roulette = o->job.roulette == (o->job.sampler == RT_SAMPLER_SOBOL) ? ""
                            : o->job.roulette                                      ? " --roulette"
@@ -41,18 +41,29 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
     if (o->bit_depth != 8 || o->ppm_ascii)
         snprintf(format, sizeof format, "%s%s", o->bit_depth != 8 ? " --bit-depth 16" : "",
                  o->ppm_ascii ? " --ppm-ascii" : "");
+    if (o->job.noise_threshold > 0.0) /* %.17g: the very double, which decides where pixels stop */
+        snprintf(adapt, sizeof adapt, " --noise-threshold %.17g", o->job.noise_threshold);
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
-             " --diffuse %s --sampler %s%s --accel %s%s",
+             " --diffuse %s --sampler %s%s%s --accel %s%s",
              scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
-             rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette, rt_accel_name(accel),
+             rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette, adapt, rt_accel_name(accel),
              format);
+}
+
+/* Writing an output failed: the sums go to the checkpoint. */
+static void fail_write(rt_run *run, const char *path, int st)
+{
+    rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", path, rt_status_str(st),
+                 rt_run_ckpt_keep_render(run) == RT_OK ? " (the rendered image is saved in the checkpoint: "
+                                                         "free space and rerun with --resume)"
+                                                       : "");
 }
 
 /* The output file, with what made it (PNG text chunks, EXR attributes): no
  * time, host or rank count, so that it stays byte-identical however it was
  * rendered. On failure the finished sums go to the checkpoint, so that a
  * resume only has to write the image. */
-static void write_image(rt_run *run)
+static void write_image(rt_run *run, const int64_t *colour)
 {
     const rt_options *o = &run->opt;
     char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
@@ -70,13 +81,97 @@ static void write_image(rt_run *run)
         {"rt-mpi:sampling", sampling_s},
     };
     rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
-    int st = rt_image_write(o->output, run->acc, o->job.width, o->job.height, o->job.samples, &wo);
+    int st = rt_image_write(o->output, colour, o->job.width, o->job.height, o->job.samples, &wo);
     if (st)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", o->output, rt_status_str(st),
-                     rt_run_ckpt_keep_render(run) == RT_OK ? " (the rendered image is saved in the checkpoint: "
-                                                             "free space and rerun with --resume)"
-                                                           : "");
-    rt_run_ckpt_done(run);
+        fail_write(run, o->output, st);
+}
+
+int64_t *rt_run_values(const rt_run *run, const int64_t *acc, uint32_t first)
+{
+    const rt_job *j = &run->opt.job;
+    const size_t npix = (size_t)j->width * j->height;
+    int64_t *out = rt_mem_zeroed(npix * 3 * sizeof *out);
+    if (out)
+        rt_image_extract(acc, npix, run->renderer.lay, first, j->samples, out);
+    return out;
+}
+
+/* OUTPUT.<name>.pfm, or .exr beside an .exr output. */
+static void aov_path(const char *output, const char *name, char *buf, size_t n)
+{
+    const char *slash = strrchr(output, '/'), *dot = strrchr(output, '.');
+    size_t stem = dot && (!slash || dot > slash) ? (size_t)(dot - output) : strlen(output);
+    const char *ext = rt_image_format_from_path(output) == RT_FORMAT_EXR ? "exr" : "pfm";
+    snprintf(buf, n, "%.*s.%s.%s", (int)stem, output, name, ext);
+}
+
+/* The denoiser's buffers (--aov) and the samples-per-pixel map. */
+static void write_extras(rt_run *run)
+{
+    const rt_options *o = &run->opt;
+    const rt_layout *lay = &run->renderer.lay;
+    const struct {
+        uint32_t first;
+        const char *name;
+    } aovs[] = {{lay->albedo, "albedo"}, {lay->normal, "normal"}};
+    rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}};
+    rt_image_write_opts wo = {8, 0, text, 1};
+    for (size_t k = 0; k < sizeof aovs / sizeof aovs[0]; k++) {
+        if (!aovs[k].first)
+            continue;
+        char path[4096];
+        aov_path(o->output, aovs[k].name, path, sizeof path);
+        int64_t *v = rt_run_values(run, run->acc, aovs[k].first);
+        if (!v)
+            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %s buffer", aovs[k].name);
+        int st = rt_image_write(path, v, o->job.width, o->job.height, o->job.samples, &wo);
+        rt_mem_free(v, (size_t)o->job.width * o->job.height * 3 * sizeof *v);
+        if (st)
+            fail_write(run, path, st);
+    }
+    if (o->spp_map) {
+        /* a pixel's samples as its value: count / samples once divided */
+        const size_t npix = (size_t)o->job.width * o->job.height;
+        int64_t *v = rt_mem_zeroed(npix * 3 * sizeof *v);
+        if (!v)
+            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
+        for (size_t i = 0; i < npix; i++)
+            v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = run->acc[i * lay->ch + lay->count] << RT_FIX_SHIFT;
+        rt_image_write_opts wm = {o->bit_depth, o->ppm_ascii, text, 1};
+        int st = rt_image_write(o->spp_map, v, o->job.width, o->job.height, o->job.samples, &wm);
+        rt_mem_free(v, npix * 3 * sizeof *v);
+        if (st)
+            fail_write(run, o->spp_map, st);
+    }
+}
+
+/* Where adaptive sampling put the samples: the pixels that stopped at
+ * each count. */
+static void spp_tally(rt_spp_stats *st, const int64_t *acc, size_t npix, rt_layout lay, uint32_t samples)
+{
+    memset(st, 0, sizeof *st);
+    for (uint32_t c = RT_ADAPT_FIRST; c < samples && st->n_levels < RT_SPP_LEVELS - 1; c *= 2)
+        st->count[st->n_levels++] = c;
+    st->count[st->n_levels++] = samples;
+    uint64_t total = 0;
+    for (size_t i = 0; i < npix; i++) {
+        const uint32_t n = (uint32_t)acc[i * lay.ch + lay.count];
+        total += n;
+        uint32_t k = 0;
+        while (k + 1 < st->n_levels && st->count[k] < n)
+            k++;
+        st->pixels[k]++;
+    }
+    st->mean = npix ? (double)total / (double)npix : 0.0;
+}
+
+static void print_spp(const rt_spp_stats *st, uint32_t samples, size_t npix)
+{
+    printf("adaptive:      %.1f samples per pixel (%.1f%% of %u); pixels stopped at", st->mean,
+           100.0 * st->mean / samples, samples);
+    for (uint32_t k = 0; k < st->n_levels; k++)
+        printf("%s %u: %.1f%%", k ? "," : "", st->count[k], 100.0 * (double)st->pixels[k] / (double)npix);
+    printf("\n");
 }
 
 static void print_intersector(const rt_run *run)
@@ -95,7 +190,7 @@ static void print_intersector(const rt_run *run)
     printf("%.0f KiB)\n", (rt_accel_bytes(run->accel) + rt_primary_bytes(run->primary)) / 1024.0);
 }
 
-static void print_summary(const rt_run *run, uint64_t hash)
+static void print_summary(const rt_run *run, uint64_t hash, const rt_spp_stats *spp)
 {
     const rt_options *o = &run->opt;
     const rt_job *j = &o->job;
@@ -119,6 +214,8 @@ static void print_summary(const rt_run *run, uint64_t hash)
                100.0 * (double)run->samples_restored / ((double)j->height * j->samples), o->checkpoint,
                run->rows_restored);
     printf("\n");
+    if (spp)
+        print_spp(spp, j->samples, (size_t)j->width * j->height);
     printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - run->t_start);
     printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res->segments,
            res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
@@ -151,7 +248,7 @@ static void print_summary(const rt_run *run, uint64_t hash)
     fflush(stdout);
 }
 
-static void write_reports(const rt_run *run, uint64_t hash)
+static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *spp)
 {
     const rt_options *o = &run->opt;
     const rt_farm_result *res = &run->res;
@@ -163,7 +260,7 @@ static void write_reports(const rt_run *run, uint64_t hash)
                                job_id && *job_id ? job_id : NULL};
     rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
                           run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
-                          rt_now() - run->t_start, res->segments, res->ranks, origin, res};
+                          rt_now() - run->t_start, res->segments, res->ranks, origin, res, spp};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));
@@ -180,18 +277,28 @@ void rt_run_finish(rt_run *run)
     uint8_t *rgb = malloc(npix * 3);
     if (!rgb)
         rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the output image");
-    rt_image_to_rgb8(run->acc, npix, j->samples, rgb);
+    int64_t *colour = run->acc;
+    if (run->renderer.lay.ch != 3 && !(colour = rt_run_values(run, run->acc, 0)))
+        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the output image");
+    rt_image_to_rgb8(colour, npix, j->samples, rgb);
     uint64_t hash = rt_image_hash(rgb, npix * 3);
     free(rgb);
-    write_image(run);
-    print_summary(run, hash);
-    write_reports(run, hash);
+    write_image(run, colour);
+    if (colour != run->acc)
+        rt_mem_free(colour, npix * 3 * sizeof *colour);
+    write_extras(run);
+    rt_run_ckpt_done(run);
+    rt_spp_stats spp;
+    if (run->renderer.lay.count)
+        spp_tally(&spp, run->acc, npix, run->renderer.lay, j->samples);
+    print_summary(run, hash, run->renderer.lay.count ? &spp : NULL);
+    write_reports(run, hash, run->renderer.lay.count ? &spp : NULL);
 }
 
 void rt_run_free(rt_run *run)
 {
     const rt_job *j = &run->opt.job;
-    rt_mem_free(run->acc, (size_t)j->width * j->height * 3 * sizeof *run->acc);
+    rt_mem_free(run->acc, (size_t)j->width * j->height * rt_job_layout(j).ch * sizeof *run->acc);
     free(run->restored);
     free(run->res.ranks);
     free(run->res.trace);

@@ -24,7 +24,7 @@ rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays);
 
 /* Adds samples [s0, s1) of rows [y0, y1) to acc, laid out as
- * acc[((y - y0) * width + x) * 3 + channel], using nthreads OpenMP threads
+ * acc[((y - y0) * width + x) * ch + value] (ch and the values: r->lay), using nthreads OpenMP threads
  * (0 = the OpenMP default). Returns the ray segments traced. One block
  * with a barrier at its end: the farm renders its units with
  * rt_render_stream instead; the tests compare it with this. */

@@ -21,6 +21,37 @@ typedef struct rt_job {
     /* Bounces before the roulette; 0 means RT_RENDER_ROULETTE_DEPTH (tests
      * start it at the first bounce, where a furnace shows its weight). */
     uint32_t roulette_depth;
+    /* Adaptive sampling: 0 = off, else a pixel stops at the first of the
+     * counts RT_ADAPT_FIRST, 2 RT_ADAPT_FIRST, 4 RT_ADAPT_FIRST, ... below
+     * samples where its estimated relative error is below this (render.h). */
+    double noise_threshold;
+    uint32_t aov; /* RT_AOV_* bits: the buffers a denoiser wants */
 } rt_job;
+
+/* Extra buffers per pixel, averaged over its samples like its colour: the
+ * albedo and the shading normal of the first non-specular hit. */
+#define RT_AOV_ALBEDO 1u
+#define RT_AOV_NORMAL 2u
+
+/* The values a pixel's sums hold, at these offsets (0 = absent; the colour
+ * is always at 0..2): with adaptive sampling, the samples it took, then
+ * the albedo and the normal when asked for. ch values per pixel in all.
+ * The render core, the farm, the checkpoint and the image writers lay out
+ * a block of rows as row-major pixels of ch values each. */
+typedef struct rt_layout {
+    uint32_t ch, count, albedo, normal;
+} rt_layout;
+
+static inline rt_layout rt_job_layout(const rt_job *j)
+{
+    rt_layout l = {3, 0, 0, 0};
+    if (j->noise_threshold > 0.0)
+        l.count = l.ch++;
+    if (j->aov & RT_AOV_ALBEDO)
+        l.albedo = l.ch, l.ch += 3;
+    if (j->aov & RT_AOV_NORMAL)
+        l.normal = l.ch, l.ch += 3;
+    return l;
+}
 
 #endif

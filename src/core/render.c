@@ -7,6 +7,7 @@
 #include <omp.h>
 #endif
 
+#include <math.h>
 #include <pthread.h>
 #include <string.h>
 
@@ -40,6 +41,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->stop = NULL;
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     r->primary = NULL;
+    r->lay = rt_job_layout(job);
     return rt_camera_init(&r->camera, &s->camera, (double)job->width / (double)job->height);
 }
 
@@ -68,14 +70,28 @@ static inline __attribute__((always_inline)) rt_ray camera_ray(const rt_renderer
     return rt_camera_ray_lens(&r->camera, u, v, 0.0, 0.0);
 }
 
+/* What a sample's path saw at its first non-specular hit (through glass
+ * and perfect mirrors), for the denoiser's buffers: the surface's albedo
+ * and shading normal; for a path that leaves into the sky first, the sky's
+ * colour (at most 1) and a zero normal. A path that ends on the way (the
+ * roulette, the depth limit) keeps the last specular surface's: glass's
+ * albedo is 1, a mirror's its colour. done: found for good. */
+typedef struct aov_rec {
+    int done;
+    rt_vec3 albedo, normal;
+} aov_rec;
+
+static inline double clamp01(double v) { return v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v; }
+
 /* One segment of a path (the one at depth), after its closest-hit query
  * (found, *hit): a miss ends the path with the sky's light through
  * *throughput, into *color; a hit scatters *ray on into the next segment
  * and returns 1, unless the material absorbs it or the roulette ends the
- * path (it ends dark, *color stays black). */
+ * path (it ends dark, *color stays black). aov, when not NULL, records the
+ * first non-specular hit. */
 static inline __attribute__((always_inline)) int path_step(const rt_renderer *r, rt_ray *ray, int found,
                                                            const rt_hit *hit, rt_sampler *smp, uint32_t depth,
-                                                           rt_vec3 *throughput, rt_vec3 *color)
+                                                           rt_vec3 *throughput, rt_vec3 *color, aov_rec *aov)
 {
     const rt_scene *s = r->scene;
     if (!found) {
@@ -83,15 +99,22 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
         double t = 0.5 * (ud.y + 1.0);
         rt_vec3 sky = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
         *color = rt_v3_mul(*throughput, sky);
+        if (aov && !aov->done)
+            *aov = (aov_rec){1, rt_v3(clamp01(sky.x), clamp01(sky.y), clamp01(sky.z)), rt_v3(0, 0, 0)};
         return 0;
     }
     const rt_sphere *sp = &s->spheres[hit->prim];
+    const rt_material *m = &s->materials[sp->material];
     rt_surface rec;
     rt_surface_from_sphere(&rec, sp, ray, hit->t);
+    if (aov && !aov->done) {
+        const int specular = m->kind == RT_MAT_DIELECTRIC || (m->kind == RT_MAT_METAL && m->fuzz == 0.0);
+        *aov = (aov_rec){!specular, m->kind == RT_MAT_DIELECTRIC ? rt_v3(1, 1, 1) : m->albedo, rec.normal};
+    }
     rt_vec3 att;
     rt_ray next;
     rt_sampler_bounce(smp, depth);
-    if (!rt_material_scatter(&s->materials[sp->material], ray, &rec, r->job.diffuse, smp, &att, &next))
+    if (!rt_material_scatter(m, ray, &rec, r->job.diffuse, smp, &att, &next))
         return 0;
     *throughput = rt_v3_mul(*throughput, att);
     *ray = next;
@@ -123,7 +146,7 @@ static inline __attribute__((always_inline)) int path_step(const rt_renderer *r,
 static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_renderer *r, rt_ray ray, rt_sampler *smp,
                                                                 rt_vec3 throughput, uint32_t depth0,
                                                                 uint64_t *segments, rt_ray *rays, const int avx,
-                                                                uint32_t pfirst, int32_t pn)
+                                                                uint32_t pfirst, int32_t pn, aov_rec *aov)
 {
     rt_vec3 color = rt_v3(0, 0, 0);
     uint64_t segs = 0;
@@ -151,7 +174,7 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
             found = rt_accel_closest(r->accel, &ray, T_MIN, INFINITY, &hit);
         (void)avx;
 #endif
-        if (!path_step(r, &ray, found, &hit, smp, depth, &throughput, &color))
+        if (!path_step(r, &ray, found, &hit, smp, depth, &throughput, &color, aov))
             break;
     }
     *segments += segs;
@@ -163,10 +186,10 @@ static inline __attribute__((always_inline)) rt_vec3 trace_rest(const rt_rendere
  * passes NULL, and the stores fold away). */
 static inline __attribute__((always_inline)) rt_vec3 trace_path(const rt_renderer *r, rt_ray ray, rt_sampler *smp,
                                                                 uint64_t *segments, rt_ray *rays, uint32_t pfirst,
-                                                                int32_t pn)
+                                                                int32_t pn, aov_rec *aov)
 {
     rt_vec3 throughput = rt_v3(1, 1, 1);
-    return trace_rest(r, ray, smp, throughput, 0, segments, rays, 0, pfirst, pn);
+    return trace_rest(r, ray, smp, throughput, 0, segments, rays, 0, pfirst, pn, aov);
 }
 
 /* The camera rays' list of pixel (x, y) (rt_primary_tile), -1 for none. */
@@ -182,7 +205,7 @@ rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t 
     rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &smp);
     uint32_t pfirst;
     int32_t pn = primary_list(r, x, y, &pfirst);
-    return trace_path(r, ray, &smp, segments, NULL, pfirst, pn);
+    return trace_path(r, ray, &smp, segments, NULL, pfirst, pn, NULL);
 }
 
 uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, rt_ray *rays)
@@ -192,27 +215,82 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     rt_ray ray = camera_ray(r, x, y, pixel_key(r, x, y), sample, &smp);
     uint32_t pfirst;
     int32_t pn = primary_list(r, x, y, &pfirst);
-    trace_path(r, ray, &smp, &segs, rays, pfirst, pn);
+    trace_path(r, ray, &smp, &segs, rays, pfirst, pn, NULL);
     return (uint32_t)segs;
 }
 
-/* Adds a sample's light to a pixel's fixed-point sums. */
-static inline void add_fixed(int64_t sum[3], rt_vec3 c)
+/* A pixel's sums while its samples are traced: fixed-point colour (and the
+ * denoiser's buffers when asked for), and for adaptive sampling the
+ * luminance's sum and sum of squares, in sample order. */
+typedef struct pixel_acc {
+    int64_t c[3], aov[6];
+    double l, l2;
+} pixel_acc;
+
+static inline int64_t fix_signed(double v) { return v < 0.0 ? -rt_render_fix(-v) : rt_render_fix(v); }
+
+/* Adds one sample: its light, and what its path saw first (aov, or NULL). */
+static inline void add_sample(const rt_renderer *r, pixel_acc *a, rt_vec3 c, const aov_rec *aov)
 {
-    sum[0] += rt_render_fix(c.x);
-    sum[1] += rt_render_fix(c.y);
-    sum[2] += rt_render_fix(c.z);
+    const int64_t f0 = rt_render_fix(c.x), f1 = rt_render_fix(c.y), f2 = rt_render_fix(c.z);
+    a->c[0] += f0;
+    a->c[1] += f1;
+    a->c[2] += f2;
+    if (r->lay.count) {
+        /* exact in a double: each is below 2^42 */
+        const double l = (double)(f0 + f1 + f2) * (1.0 / (3.0 * RT_FIX_ONE));
+        a->l += l;
+        a->l2 += l * l;
+    }
+    if (aov) {
+        a->aov[0] += rt_render_fix(aov->albedo.x);
+        a->aov[1] += rt_render_fix(aov->albedo.y);
+        a->aov[2] += rt_render_fix(aov->albedo.z);
+        a->aov[3] += fix_signed(aov->normal.x);
+        a->aov[4] += fix_signed(aov->normal.y);
+        a->aov[5] += fix_signed(aov->normal.z);
+    }
 }
 
-/* The samples s0..s1-1 of pixel (x, y), summed in fixed point into sum. */
-static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
-                                                            uint32_t s1, int64_t sum[3], const int avx)
+int rt_render_converged(double sum, double sum2, uint32_t n, double threshold)
 {
-    int64_t acc[3] = {0, 0, 0}; /* a local, kept in registers */
+    const double mean = sum / n;
+    double var = (sum2 - sum * mean) / (double)(n - 1);
+    /* Samples that are all the same say too little: a path that survives
+     * the roulette (or finds a light) with probability p gives n equal
+     * values p^n of the time, and stopping there would keep the unlucky
+     * mean. Such a pixel goes on to the next count. (1e-9: far above the
+     * rounding of equal samples' sums, far below any spread that counts.) */
+    if (!(var > 1e-9 * mean * mean))
+        return 0;
+    const double err = sqrt(var / n);
+    return err <= threshold * (mean > RT_ADAPT_FLOOR ? mean : RT_ADAPT_FLOOR);
+}
+
+/* Whether a pixel that has n samples stops there: at the fixed counts
+ * (RT_ADAPT_FIRST times a power of two) below the job's samples, by that
+ * pixel's own samples only, so that the decision is the same on any rank. */
+static inline int adapt_stop(const rt_renderer *r, const pixel_acc *a, uint32_t n)
+{
+    const uint32_t q = n / RT_ADAPT_FIRST;
+    return n % RT_ADAPT_FIRST == 0 && q && !(q & (q - 1)) && n < r->job.samples &&
+           rt_render_converged(a->l, a->l2, n, r->job.noise_threshold);
+}
+
+/* The samples s0..s1-1 of pixel (x, y) added in fixed point to px (the
+ * pixel's values, r->lay); with adaptive sampling (which needs s0 = 0),
+ * fewer when the pixel stops early. */
+static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
+                                                            uint32_t s1, int64_t *px, const int avx)
+{
+    pixel_acc acc; /* a local, kept in registers */
+    memset(&acc, 0, sizeof acc);
     uint64_t segs = 0;
     const uint64_t key = pixel_key(r, x, y);
     uint32_t pfirst;
     const int32_t pn = primary_list(r, x, y, &pfirst);
+    const int adapt = r->lay.count != 0, aovs = r->lay.albedo || r->lay.normal;
+    uint32_t s = s0;
 #if RT_BVH_HAVE_AVX
     if (avx) {
         /* PACKET samples at a time, their paths advanced a segment each
@@ -225,17 +303,19 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
          * traversal would find (rt_sphere_closer's rule), and each path
          * draws from its own RNG, so the pixels are the same bits as from
          * trace_path (the same numbers in the same order, roulette
-         * included). */
-        for (uint32_t s = s0; s < s1; s += PACKET) {
+         * included). The adaptive counts are multiples of PACKET. */
+        while (s < s1) {
             const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET, all = (1 << n) - 1;
             rt_ray ray[PACKET];
             rt_sampler smp[PACKET];
             rt_hit hit[PACKET];
             rt_vec3 thr[PACKET], col[PACKET];
+            aov_rec aov[PACKET];
             for (int k = 0; k < n; k++) {
                 ray[k] = camera_ray(r, x, y, key, s + (uint32_t)k, &smp[k]);
                 thr[k] = rt_v3(1, 1, 1);
                 col[k] = rt_v3(0, 0, 0);
+                aov[k] = (aov_rec){0, {0, 0, 0}, {0, 0, 0}};
             }
             /* Packets while no path has ended, so ray[0, n) is the packet. */
             int live = all;
@@ -252,12 +332,12 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                  * instead of a branch on hit or miss in every lane */
                 for (int m = found; m; m &= m - 1) {
                     const int k = __builtin_ctz((unsigned)m);
-                    if (!path_step(r, &ray[k], 1, &hit[k], &smp[k], depth, &thr[k], &col[k]))
+                    if (!path_step(r, &ray[k], 1, &hit[k], &smp[k], depth, &thr[k], &col[k], aovs ? &aov[k] : NULL))
                         live &= ~(1 << k);
                 }
                 for (int m = all & ~found; m; m &= m - 1) {
                     const int k = __builtin_ctz((unsigned)m);
-                    path_step(r, &ray[k], 0, &hit[k], &smp[k], depth, &thr[k], &col[k]);
+                    path_step(r, &ray[k], 0, &hit[k], &smp[k], depth, &thr[k], &col[k], aovs ? &aov[k] : NULL);
                     live &= ~(1 << k);
                 }
             }
@@ -267,23 +347,41 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
              * warm better than taking the paths in turn. */
             for (; live; live &= live - 1) {
                 const int k = __builtin_ctz((unsigned)live);
-                col[k] = trace_rest(r, ray[k], &smp[k], thr[k], depth, &segs, NULL, 1, pfirst, pn);
+                col[k] = trace_rest(r, ray[k], &smp[k], thr[k], depth, &segs, NULL, 1, pfirst, pn,
+                                    aovs ? &aov[k] : NULL);
             }
             for (int k = 0; k < n; k++)
-                add_fixed(acc, col[k]);
+                add_sample(r, &acc, col[k], aovs ? &aov[k] : NULL);
+            s += (uint32_t)n;
+            if (adapt && adapt_stop(r, &acc, s))
+                break;
         }
     } else
 #else
     (void)avx;
 #endif
-        for (uint32_t s = s0; s < s1; s++) {
+        for (; s < s1; s++) {
             rt_sampler smp;
             rt_ray cam = camera_ray(r, x, y, key, s, &smp);
-            add_fixed(acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn));
+            aov_rec aov = {0, {0, 0, 0}, {0, 0, 0}};
+            add_sample(r, &acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn, aovs ? &aov : NULL),
+                       aovs ? &aov : NULL);
+            if (adapt && adapt_stop(r, &acc, s + 1)) {
+                s++;
+                break;
+            }
         }
-    sum[0] = acc[0];
-    sum[1] = acc[1];
-    sum[2] = acc[2];
+    px[0] += acc.c[0];
+    px[1] += acc.c[1];
+    px[2] += acc.c[2];
+    if (adapt)
+        px[r->lay.count] += s - s0;
+    if (r->lay.albedo)
+        for (int k = 0; k < 3; k++)
+            px[r->lay.albedo + k] += acc.aov[k];
+    if (r->lay.normal)
+        for (int k = 0; k < 3; k++)
+            px[r->lay.normal + k] += acc.aov[3 + k];
     return segs;
 }
 
@@ -293,19 +391,19 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
  * determinism test compares the two). flatten inlines the whole path loop
  * into each, the intersector included: 5.7 % faster renders than calling
  * the AVX traversal out of line (scripts/ab_render.sh, 1.057 twice). */
-typedef uint64_t (*pixel_fn)(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0, uint32_t s1, int64_t sum[3]);
+typedef uint64_t (*pixel_fn)(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0, uint32_t s1, int64_t *px);
 
 __attribute__((flatten)) static uint64_t pixel_base(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
-                                                    uint32_t s1, int64_t sum[3])
+                                                    uint32_t s1, int64_t *px)
 {
-    return pixel(r, x, y, s0, s1, sum, 0);
+    return pixel(r, x, y, s0, s1, px, 0);
 }
 
 #if RT_BVH_HAVE_AVX
 __attribute__((target("avx"), flatten)) static uint64_t pixel_avx(const rt_renderer *r, uint32_t x, uint32_t y,
-                                                                   uint32_t s0, uint32_t s1, int64_t sum[3])
+                                                                   uint32_t s0, uint32_t s1, int64_t *px)
 {
-    return pixel(r, x, y, s0, s1, sum, 1);
+    return pixel(r, x, y, s0, s1, px, 1);
 }
 #endif
 
@@ -315,19 +413,13 @@ static int stopped(const rt_renderer *r)
 }
 
 /* Pixel i of a block of rows from y0: its samples [s0, s1) added to
- * acc[3 i ..]; returns the ray segments traced. */
+ * acc[ch i ..]; returns the ray segments traced. */
 static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0, uint32_t s0, uint32_t s1, long i,
                                  int64_t *acc)
 {
     const uint32_t W = r->job.width;
     uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
-    int64_t sum[3];
-    uint64_t segs = fn(r, x, y, s0, s1, sum);
-    int64_t *px = acc + i * 3;
-    px[0] += sum[0];
-    px[1] += sum[1];
-    px[2] += sum[2];
-    return segs;
+    return fn(r, x, y, s0, s1, acc + i * r->lay.ch);
 }
 
 uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t s0, uint32_t s1, int64_t *acc,
@@ -404,7 +496,7 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
             continue;
         }
         if (got > 0) {
-            size_t need = (size_t)(u.y1 - u.y0) * st->r->job.width * 3;
+            size_t need = (size_t)(u.y1 - u.y0) * st->r->job.width * st->r->lay.ch;
             if (need > empty->cap) { /* the first units are the largest (schedule.h) */
                 rt_mem_free(empty->buf, empty->cap * sizeof *empty->buf);
                 empty->cap = 0;
@@ -475,7 +567,7 @@ static void stream_thread(stream *st)
         su->left -= b - a;
         if (su->left == 0) {
             pthread_mutex_unlock(&st->mu);
-            const size_t n = (size_t)su->npix * 3;
+            const size_t n = (size_t)su->npix * r->lay.ch;
             if (!stopped(r)) {
                 pthread_mutex_lock(&st->done_mu);
                 st->src->done(st->src->ctx, &su->u, su->buf, su->segments);

@@ -40,6 +40,19 @@
  * 5 bounces x 1/4, 1/8, 1/16 (error x segments 8.6 %, 6.5 %, 2.9 % lower). */
 #define RT_RENDER_ROULETTE_DEPTH 3u
 #define RT_RENDER_ROULETTE_KEEP 0.125
+/* Adaptive sampling (--noise-threshold): a pixel may stop after
+ * RT_ADAPT_FIRST samples and after every doubling of that (16, 32, 64, ...)
+ * once the standard error of its luminance's mean, from its own samples,
+ * is below the threshold times that mean (RT_ADAPT_FLOOR at least, so
+ * that dark pixels are held to an absolute error instead). Powers of two
+ * are where a Sobol sequence's points are evenly spread. */
+#define RT_ADAPT_FIRST 16u
+#define RT_ADAPT_FLOOR 0.05
+
+/* Whether n samples with luminance sum and sum of squares sum2 meet the
+ * threshold (n >= 2). */
+int rt_render_converged(double sum, double sum2, uint32_t n, double threshold);
+
 #define RT_FIX_SHIFT 32
 #define RT_FIX_ONE 4294967296.0
 /* Per-sample radiance is clamped to this so that sums of up to
@@ -67,6 +80,7 @@ typedef struct rt_renderer {
      * caller builds it for this camera and image size (NULL after
      * rt_render_init). */
     const struct rt_primary *primary;
+    rt_layout lay; /* the values of a pixel's sums (job.h) */
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);

@@ -20,7 +20,7 @@ int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p
     int st = rt_sched_init(&a->sched, job, p, committed);
     if (st)
         return st;
-    a->width = job->width;
+    a->row = (size_t)job->width * rt_job_layout(job).ch;
     a->acc = acc;
     a->ranks = ranks;
     a->tracing = tracing;
@@ -43,7 +43,7 @@ void rt_assembly_free(rt_assembly *a)
     memset(a, 0, sizeof *a);
 }
 
-size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * a->width * 3; }
+size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * a->row; }
 
 int rt_assembly_complete(const rt_assembly *a) { return a->units_in == a->sched.n_units; }
 
@@ -56,13 +56,13 @@ void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, ui
     st->busy += end - start;
 }
 
-static size_t unit_len(const rt_assembly *a, const rt_unit *u) { return (size_t)(u->y1 - u->y0) * a->width * 3; }
+static size_t unit_len(const rt_assembly *a, const rt_unit *u) { return (size_t)(u->y1 - u->y0) * a->row; }
 
 static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t n_units)
 {
     size_t n = unit_len(a, u);
     a->units_in += n_units;
-    int64_t *dst = a->acc + (size_t)u->y0 * a->width * 3;
+    int64_t *dst = a->acc + (size_t)u->y0 * a->row;
     for (size_t i = 0; i < n; i++)
         dst[i] += sums[i];
     rt_sched_commit(&a->sched, u);

@@ -15,8 +15,8 @@
 
 typedef struct rt_assembly {
     rt_sched sched;
-    uint32_t width;
-    int64_t *acc; /* the caller's framebuffer: width*height*3 sums */
+    size_t row;   /* values per row: width times the layout's ch (job.h) */
+    int64_t *acc; /* the caller's framebuffer: height*row sums */
     struct rt_pending *pending; /* units that arrived before their predecessors */
     size_t n_pending, cap_pending;
     uint64_t segments;

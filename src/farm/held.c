@@ -7,10 +7,10 @@
 #include "array.h"
 #include "status.h"
 
-void rt_held_init(rt_held *h, uint32_t width)
+void rt_held_init(rt_held *h, size_t row)
 {
     memset(h, 0, sizeof *h);
-    h->width = width;
+    h->row = row;
 }
 
 void rt_held_free_pieces(rt_piece *p, size_t n)
@@ -61,7 +61,7 @@ static int add_id(rt_piece *p, uint32_t id)
 
 int rt_held_add(rt_held *h, const rt_unit *u, const int64_t *sums)
 {
-    const size_t n = (size_t)(u->y1 - u->y0) * h->width * 3;
+    const size_t n = (size_t)(u->y1 - u->y0) * h->row;
     rt_piece *p = extended(h, u);
     if (p) {
         if (add_id(p, u->id))

@@ -16,19 +16,19 @@
 
 typedef struct rt_piece {
     uint32_t y0, y1, s0, s1; /* rows, samples */
-    int64_t *sums;           /* (y1 - y0) * width * 3 */
+    int64_t *sums;           /* (y1 - y0) * row */
     uint32_t *ids;           /* the units it holds */
     size_t n_ids, cap_ids;
 } rt_piece;
 
 typedef struct rt_held {
-    uint32_t width;
+    size_t row; /* values per row: width times the layout's ch (job.h) */
     rt_piece *pieces;
     size_t n, cap;
     size_t bytes; /* of sums held now */
 } rt_held;
 
-void rt_held_init(rt_held *h, uint32_t width);
+void rt_held_init(rt_held *h, size_t row);
 void rt_held_free(rt_held *h);
 
 /* Whether u's sums can be added without breaking "one contiguous range

@@ -205,7 +205,7 @@ static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
     const size_t n_ids = ok ? (size_t)m[4] : 0;
     const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[2] : 0,
                            ok ? (uint32_t)m[3] : 0};
-    const size_t len = RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->width * 3;
+    const size_t len = RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->row;
     ok = ok && count >= len;
     uint64_t covered = 0;
     for (size_t k = 0; ok && k < n_ids; k++) {

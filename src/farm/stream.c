@@ -14,7 +14,7 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src)
         return rt_render_stream(job->renderer, job->threads, src);
     /* --empty-units: every unit adds nothing, without rendering; the zero
      * sums come from one buffer that grows to the largest unit. */
-    const size_t row = (size_t)job->renderer->job.width * 3;
+    const size_t row = (size_t)job->renderer->job.width * job->renderer->lay.ch;
     int64_t *zero = NULL;
     size_t cap = 0;
     int st = RT_OK, got;

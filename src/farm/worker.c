@@ -92,7 +92,7 @@ static int seal(worker *w)
         return RT_ENOMEM;
     w->sealed[w->n_sealed++] = w->held;
     w->sealed_bytes += w->held.bytes;
-    rt_held_init(&w->held, w->held.width);
+    rt_held_init(&w->held, w->held.row);
     return RT_OK;
 }
 
@@ -159,7 +159,7 @@ static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
 {
     if (!n_pieces)
         return;
-    const size_t row = (size_t)w->held.width * 3;
+    const size_t row = w->held.row;
     size_t n = 0;
     for (size_t i = 0; i < n_pieces; i++)
         n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * row;
@@ -336,7 +336,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     w.beat = (job->lease > 0 ? job->lease : 5.0) / 4;
     w.last_flush = w.last_sent = rt_now();
     atomic_init(&w.ready, 0);
-    rt_held_init(&w.held, job->renderer->job.width);
+    rt_held_init(&w.held, (size_t)job->renderer->job.width * job->renderer->lay.ch);
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)

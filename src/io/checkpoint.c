@@ -1,8 +1,9 @@
 /* checkpoint.c - checkpoint file format (little endian throughout):
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
- *   exact | u64 seed scene_hash | u32 sampling sampler roulette |
- *   u32 rows with samples |
- *   height u32 sample counts | for each row with samples, width*3 i64 sums |
+ *   exact | u64 seed scene_hash | u32 sampling sampler roulette aov |
+ *   u64 noise threshold (IEEE double bits) | u32 rows with samples |
+ *   height u32 sample counts | for each row with samples, width*ch i64
+ *   sums (ch: the job's layout, job.h) |
  *   u64 FNV-1a of all before. */
 #include "checkpoint.h"
 
@@ -16,7 +17,7 @@
 #include "status.h"
 
 static const uint8_t MAGIC[8] = {'R', 'T', 'C', 'K', 'P', 'T', 0, 0};
-#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 3 * 4 + 4)
+#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 * 4 + 8 + 4)
 
 typedef struct hwriter {
     FILE *fp;
@@ -47,6 +48,13 @@ static void put_u64(hwriter *w, uint64_t v)
     put(w, b, 8);
 }
 
+static uint64_t threshold_bits(double v)
+{
+    uint64_t b;
+    memcpy(&b, &v, sizeof b);
+    return b;
+}
+
 int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *committed, const int64_t *acc)
 {
     rt_atomic_file f;
@@ -70,10 +78,12 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
     put_u32(&w, id->sampling);
     put_u32(&w, id->job.sampler);
     put_u32(&w, (uint32_t)id->job.roulette);
+    put_u32(&w, id->job.aov);
+    put_u64(&w, threshold_bits(id->job.noise_threshold));
     put_u32(&w, done);
     for (uint32_t y = 0; y < id->job.height; y++)
         put_u32(&w, committed[y]);
-    size_t rowlen = (size_t)id->job.width * 3;
+    size_t rowlen = (size_t)id->job.width * rt_job_layout(&id->job).ch;
     uint8_t *buf = malloc(rowlen * 8);
     if (!buf) {
         rt_atomic_abort(&f);
@@ -146,6 +156,8 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         {"sampling version", get_u32(p + 40), expect->sampling},
         {"sampler", get_u32(p + 44), expect->job.sampler},
         {"roulette", get_u32(p + 48), (uint32_t)expect->job.roulette},
+        {"denoiser buffers (--aov)", get_u32(p + 52), expect->job.aov},
+        {"noise threshold (bits)", get_u64(p + 56), threshold_bits(expect->job.noise_threshold)},
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         if (fields[i].got != fields[i].want) {
@@ -155,9 +167,9 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
             return RT_EMISMATCH;
         }
     }
-    uint32_t with = get_u32(p + 52);
-    const uint8_t *counts = p + 56;
-    size_t rowlen = (size_t)expect->job.width * 3;
+    uint32_t with = get_u32(p + 64);
+    const uint8_t *counts = p + 68;
+    size_t rowlen = (size_t)expect->job.width * rt_job_layout(&expect->job).ch;
     size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
     uint32_t counted = 0, bad = 0;
     if (len == want_len) {

@@ -12,7 +12,7 @@
 
 #include "job.h"
 
-#define RT_CKPT_VERSION 4u
+#define RT_CKPT_VERSION 5u
 
 /* Everything that changes a pixel: the job, and what else decides its
  * samples' bits. */
@@ -24,7 +24,7 @@ typedef struct rt_ckpt_id {
 } rt_ckpt_id;
 
 /* committed: per row, the samples [0, committed) its sums cover; acc:
- * width*height*3 sums, of which rows with committed > 0 are stored. */
+ * width*height*ch sums (the job's layout), of which rows with committed > 0 are stored. */
 int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *committed, const int64_t *acc);
 
 /* Loads a checkpoint for `expect`. Fills committed and the sums of the rows

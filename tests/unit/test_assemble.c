@@ -53,7 +53,7 @@ static int rows_consistent(const rt_assembly *a)
  * (k % ranks); checks consistency after each. */
 static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band)
 {
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0};
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
     rt_sched_params p = {band, 4, ranks, 8, 1, passes};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
@@ -113,7 +113,7 @@ int main(void)
 
     /* A unit out of commit order is kept, not lost: with nothing else in,
      * the second sample range of a row waits for the first. */
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0};
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
     rt_sched_params p = {0, 4, 64, 8, 1, 1};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;

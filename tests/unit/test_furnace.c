@@ -23,6 +23,7 @@
 #include "accel.h"
 #include "check.h"
 #include "core_internal.h"
+#include "furnace.h"
 #include "render.h"
 #include "status.h"
 
@@ -76,19 +77,15 @@ static const char *config_name(const rt_job *p)
 
 static void check_furnace(void)
 {
-    const rt_vec3 albedo = rt_v3(0.1, 0.06, 0.02); /* survival 0.8 at the roulette */
+    const rt_vec3 albedo = furnace_albedo();
     rt_scene s;
-    rt_scene_init(&s);
-    CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, -3), 1.0, rt_scene_lambertian(albedo)), RT_OK);
-    s.sky_bottom = s.sky_top = rt_v3(1, 1, 1);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 20.0, 0.5, 3.0};
     rt_accel *a;
-    CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
+    furnace_scene(&s, &a);
     const double want[3] = {albedo.x, albedo.y, albedo.z};
     for (int model = 0; model < 3; model++)
         for (int kind = 0; kind < 2; kind++)
             for (int roulette = 0; roulette < 2; roulette++) {
-                rt_job p = {24, 16, 128, 50, 3, (rt_diffuse)model, (rt_sampler_kind)kind, roulette, 1};
+                rt_job p = {24, 16, 128, 50, 3, (rt_diffuse)model, (rt_sampler_kind)kind, roulette, 1, 0, 0};
                 rt_renderer r;
                 CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
                 stats st;
@@ -114,7 +111,7 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
     const rt_scene s = *sc;
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job ref_p = {24, 16, 1024, 50, 11, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0};
+    rt_job ref_p = {24, 16, 1024, 50, 11, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &ref_p), RT_OK);
     stats ref;
@@ -127,7 +124,7 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
         int roulette;
     } cfg[] = {{RT_SAMPLER_RANDOM, 1}, {RT_SAMPLER_SOBOL, 0}, {RT_SAMPLER_SOBOL, 1}};
     for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; c++) {
-        rt_job p = {24, 16, 256, 50, 12, RT_DIFFUSE_LAMBERTIAN, cfg[c].kind, cfg[c].roulette, 0};
+        rt_job p = {24, 16, 256, 50, 12, RT_DIFFUSE_LAMBERTIAN, cfg[c].kind, cfg[c].roulette, 0, 0, 0};
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         stats st;
         sample_stats(&r, &st, &same);

@@ -21,7 +21,7 @@ static void fill(const rt_unit *u, int64_t *sums)
 int main(void)
 {
     rt_held h;
-    rt_held_init(&h, W);
+    rt_held_init(&h, W * 3);
     int64_t s1[2 * W * 3], s2[2 * W * 3], s3[W * 3];
     rt_unit a = {7, 10, 12, 0, 4}, b = {8, 10, 12, 4, 9}, c = {9, 12, 13, 0, 4};
     rt_unit gap = {10, 10, 12, 12, 16}, part = {11, 11, 13, 9, 12};

@@ -74,7 +74,7 @@ int main(void)
     CHECK_EQ_INT(rt_scene_build_final(&s, 5, 3), RT_OK);
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0};
+    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     size_t n = (size_t)p.width * p.height * 3;

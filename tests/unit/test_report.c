@@ -123,7 +123,7 @@ int main(void)
     ranks[1].lost = 1;
     rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75,
                         (1ull << 60) + 1, ranks,
-                        {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm};
+                        {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm, NULL};
     CHECK_EQ_INT(rt_report_stats(stats, &s), 0);
     cJSON *doc = load(stats);
     if (doc) {

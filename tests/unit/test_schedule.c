@@ -65,7 +65,7 @@ typedef struct plan {
 
 static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
 {
-    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0}, {band, 16, ranks, per_rank, 1, passes}};
+    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0}, {band, 16, ranks, per_rank, 1, passes}};
     return p;
 }
 
