@@ -270,6 +270,7 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
         if (!e)
             break;
         add_num(e, "rank", r, &ok);
+        add_str(e, "host", x->host, &ok);
         add_num(e, "units", x->units, &ok);
         add_num(e, "rows", x->rows, &ok);
         add_num(e, "segments", x->segments, &ok);

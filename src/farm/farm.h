@@ -45,6 +45,7 @@ typedef struct rt_rank_stats {
     double maxrss_mb; /* peak resident memory */
     double held_mb;   /* most sums held at once, not yet sent to rank 0 */
     int lost;         /* the rank died or stopped answering; its units went to others */
+    char host[64];    /* the node it ran on (gethostname, cut to 63 bytes) */
 } rt_rank_stats;
 
 typedef struct rt_trace_event {

@@ -31,6 +31,8 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
 double rt_farm_unit_start(double taken, double *last, double end);
 /* Peak resident memory of this process in MB. */
 double rt_farm_maxrss_mb(void);
+/* This node's name (gethostname), cut to fit; "" if it has none. */
+void rt_farm_hostname(char *buf, size_t n);
 
 /* root.c: rank 0's state, shared by its render thread and its main thread
  * (the server). Everything in it is guarded by mu. */

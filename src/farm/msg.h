@@ -3,6 +3,7 @@
  * hands out units and takes in small reports; the sums come combined.
  *
  *   worker -> rank 0
+ *     HOST     char: its host name (first, before HELLO)
  *     HELLO    int32: how many units it wants in flight
  *     REPORT   int64 x 4 per unit done: id, segments, start and end ns
  *              (worker clock since the common start); also its request
@@ -41,6 +42,7 @@ enum {
     RT_TAG_FLUSH,
     RT_TAG_STOP,
     RT_TAG_FINISH,
+    RT_TAG_HOST,
 };
 #define RT_MSG_REPORT 4 /* int64 per reported unit */
 #define RT_MSG_UNIT 5   /* uint32 per unit sent */

@@ -276,7 +276,8 @@ static void receive(server *s, const MPI_Status *status)
     MPI_Datatype type = type_of(tag, &size);
     int count = 0;
     MPI_Get_count(status, type, &count);
-    if (count < 0 || (count > 0 && rt_array_reserve(&s->buf, &s->cap, (size_t)count, size)))
+    /* cap in bytes: messages of every type share the buffer */
+    if (count < 0 || (count > 0 && rt_array_reserve(&s->buf, &s->cap, (size_t)count * size, 1)))
         rt_farm_fail(s->f, 1, "out of memory on rank 0");
     if (MPI_Recv(s->buf, count, type, r, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS) {
         lose(s, r, "receiving from it failed");
@@ -305,6 +306,15 @@ static void receive(server *s, const MPI_Status *status)
     case RT_TAG_STOPPED:
         p->stopped = 1;
         break;
+    case RT_TAG_HOST: {
+        pthread_mutex_lock(&s->R->mu);
+        char *host = s->R->as.stats[r].host;
+        const size_t n = (size_t)count < sizeof s->R->as.stats[r].host ? (size_t)count : sizeof s->R->as.stats[r].host - 1;
+        memcpy(host, s->buf, n);
+        host[n] = 0;
+        pthread_mutex_unlock(&s->R->mu);
+        break;
+    }
     case RT_TAG_BEAT:
         break;
     default:

@@ -5,6 +5,7 @@
 
 #include <stdlib.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include "status.h"
 
@@ -45,6 +46,13 @@ double rt_farm_unit_start(double taken, double *last, double end)
     double start = taken > *last ? taken : *last;
     *last = end;
     return start;
+}
+
+void rt_farm_hostname(char *buf, size_t n)
+{
+    if (gethostname(buf, n) != 0)
+        buf[0] = 0;
+    buf[n - 1] = 0;
 }
 
 double rt_farm_maxrss_mb(void)

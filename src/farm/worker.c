@@ -349,6 +349,9 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     if (fault && atoi(fault) == f->rank)
         rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
 #endif
+    char host[sizeof me->host];
+    rt_farm_hostname(host, sizeof host);
+    send_or_fail(&w, host, (int)strlen(host), MPI_CHAR, RT_TAG_HOST);
     int32_t want = w.depth;
     send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
     rt_render_source src = {worker_take, worker_done, worker_poll, &w};

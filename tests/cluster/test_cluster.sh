@@ -95,8 +95,13 @@ hostfile)
         check_eq "$name: ranks per host" "$got" "$want"
         b0=$(eth_bytes n3)
         t=$(now)
-        cmpirun 120 "$hf" -np "$np" "$BIN" "${IMG[@]}" -j "$j" -o "$WORK/$name.png" >"$WORK/$name.out" 2>&1
+        cmpirun 120 "$hf" -np "$np" "$BIN" "${IMG[@]}" -j "$j" -o "$WORK/$name.png" --stats "$WORK/$name.json" \
+            >"$WORK/$name.out" 2>&1
         check_eq "$name: exit status" $? 0
+        # --stats names each rank's host: the same placement
+        check_eq "$name: hosts in --stats" "$(python3 -c 'import collections, json, sys
+c = collections.Counter(r["host"] for r in json.load(open(sys.argv[1]))["per_rank"])
+print(" ".join("%s:%d" % kv for kv in sorted(c.items())))' "$WORK/$name.json")" "$want"
         b1=$(eth_bytes n3)
         note "$name: $(secs "$t" "$(now)") s; $((b1 - b0)) bytes through n3's eth0"
         same_image "$name ($np ranks, -j $j)" "$WORK/$name.png" || show "$WORK/$name.out"
