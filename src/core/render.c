@@ -230,13 +230,13 @@ typedef struct pixel_acc {
 static inline int64_t fix_signed(double v) { return v < 0.0 ? -rt_render_fix(-v) : rt_render_fix(v); }
 
 /* Adds one sample: its light, and what its path saw first (aov, or NULL). */
-static inline void add_sample(const rt_renderer *r, pixel_acc *a, rt_vec3 c, const aov_rec *aov)
+static inline void add_sample(pixel_acc *a, rt_vec3 c, const int adapt, const aov_rec *aov)
 {
     const int64_t f0 = rt_render_fix(c.x), f1 = rt_render_fix(c.y), f2 = rt_render_fix(c.z);
     a->c[0] += f0;
     a->c[1] += f1;
     a->c[2] += f2;
-    if (r->lay.count) {
+    if (adapt) {
         /* exact in a double: each is below 2^42 */
         const double l = (double)(f0 + f1 + f2) * (1.0 / (3.0 * RT_FIX_ONE));
         a->l += l;
@@ -279,9 +279,11 @@ static inline int adapt_stop(const rt_renderer *r, const pixel_acc *a, uint32_t 
 
 /* The samples s0..s1-1 of pixel (x, y) added in fixed point to px (the
  * pixel's values, r->lay); with adaptive sampling (which needs s0 = 0),
- * fewer when the pixel stops early. */
+ * fewer when the pixel stops early. extras: the job may have adaptive
+ * sampling or buffers (r->lay.ch > 3); a constant, so that the path loop
+ * of a plain job has none of their code (+3.1 % instructions with it). */
 static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
-                                                            uint32_t s1, int64_t *px, const int avx)
+                                                            uint32_t s1, int64_t *px, const int avx, const int extras)
 {
     pixel_acc acc; /* a local, kept in registers */
     memset(&acc, 0, sizeof acc);
@@ -289,7 +291,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     const uint64_t key = pixel_key(r, x, y);
     uint32_t pfirst;
     const int32_t pn = primary_list(r, x, y, &pfirst);
-    const int adapt = r->lay.count != 0, aovs = r->lay.albedo || r->lay.normal;
+    const int adapt = extras && r->lay.count != 0, aovs = extras && (r->lay.albedo || r->lay.normal);
     uint32_t s = s0;
 #if RT_BVH_HAVE_AVX
     if (avx) {
@@ -351,7 +353,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                                     aovs ? &aov[k] : NULL);
             }
             for (int k = 0; k < n; k++)
-                add_sample(r, &acc, col[k], aovs ? &aov[k] : NULL);
+                add_sample(&acc, col[k], adapt, aovs ? &aov[k] : NULL);
             s += (uint32_t)n;
             if (adapt && adapt_stop(r, &acc, s))
                 break;
@@ -364,7 +366,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             rt_sampler smp;
             rt_ray cam = camera_ray(r, x, y, key, s, &smp);
             aov_rec aov = {0, {0, 0, 0}, {0, 0, 0}};
-            add_sample(r, &acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn, aovs ? &aov : NULL),
+            add_sample(&acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn, aovs ? &aov : NULL), adapt,
                        aovs ? &aov : NULL);
             if (adapt && adapt_stop(r, &acc, s + 1)) {
                 s++;
@@ -376,10 +378,10 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     px[2] += acc.c[2];
     if (adapt)
         px[r->lay.count] += s - s0;
-    if (r->lay.albedo)
+    if (aovs && r->lay.albedo)
         for (int k = 0; k < 3; k++)
             px[r->lay.albedo + k] += acc.aov[k];
-    if (r->lay.normal)
+    if (aovs && r->lay.normal)
         for (int k = 0; k < 3; k++)
             px[r->lay.normal + k] += acc.aov[3 + k];
     return segs;
@@ -390,22 +392,47 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
  * every operation rounds the same, so the pixels are the same bits; the
  * determinism test compares the two). flatten inlines the whole path loop
  * into each, the intersector included: 5.7 % faster renders than calling
- * the AVX traversal out of line (scripts/ab_render.sh, 1.057 twice). */
+ * the AVX traversal out of line (scripts/ab_render.sh, 1.057 twice). Each
+ * twice again: for plain jobs, and for jobs with adaptive sampling or
+ * buffers (pixel's extras). */
 typedef uint64_t (*pixel_fn)(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0, uint32_t s1, int64_t *px);
 
 __attribute__((flatten)) static uint64_t pixel_base(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
                                                     uint32_t s1, int64_t *px)
 {
-    return pixel(r, x, y, s0, s1, px, 0);
+    return pixel(r, x, y, s0, s1, px, 0, 0);
+}
+
+__attribute__((flatten)) static uint64_t pixel_base_x(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
+                                                      uint32_t s1, int64_t *px)
+{
+    return pixel(r, x, y, s0, s1, px, 0, 1);
 }
 
 #if RT_BVH_HAVE_AVX
 __attribute__((target("avx"), flatten)) static uint64_t pixel_avx(const rt_renderer *r, uint32_t x, uint32_t y,
                                                                    uint32_t s0, uint32_t s1, int64_t *px)
 {
-    return pixel(r, x, y, s0, s1, px, 1);
+    return pixel(r, x, y, s0, s1, px, 1, 0);
+}
+
+__attribute__((target("avx"), flatten)) static uint64_t pixel_avx_x(const rt_renderer *r, uint32_t x, uint32_t y,
+                                                                     uint32_t s0, uint32_t s1, int64_t *px)
+{
+    return pixel(r, x, y, s0, s1, px, 1, 1);
 }
 #endif
+
+/* The path loop for r's job and CPU. */
+static pixel_fn pixel_for(const rt_renderer *r)
+{
+    const int extras = r->lay.ch > 3;
+#if RT_BVH_HAVE_AVX
+    if (r->bvh_avx)
+        return extras ? pixel_avx_x : pixel_avx;
+#endif
+    return extras ? pixel_base_x : pixel_base;
+}
 
 static int stopped(const rt_renderer *r)
 {
@@ -428,11 +455,7 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
     const uint32_t W = r->job.width;
     const long npix = (long)(y1 - y0) * W;
     uint64_t total = 0;
-    pixel_fn fn = pixel_base;
-#if RT_BVH_HAVE_AVX
-    if (r->bvh_avx)
-        fn = pixel_avx;
-#endif
+    pixel_fn fn = pixel_for(r);
 #ifdef _OPENMP
     if (nthreads <= 0)
         nthreads = omp_get_max_threads();
@@ -595,11 +618,7 @@ int rt_render_stream(const rt_renderer *r, int nthreads, const rt_render_source 
     memset(&st, 0, sizeof st);
     st.r = r;
     st.src = src;
-    st.fn = pixel_base;
-#if RT_BVH_HAVE_AVX
-    if (r->bvh_avx)
-        st.fn = pixel_avx;
-#endif
+    st.fn = pixel_for(r);
     st.threads = nthreads;
     /* one unit more than threads, so that a thread that has finished its
      * runs can always start on a new unit while the others finish theirs */
