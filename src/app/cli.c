@@ -483,11 +483,6 @@ static int settle_run(rt_options *o, char *err, size_t errlen)
         snprintf(err, errlen, "--preview: previews are written only with --passes 2 or more");
         return RT_EINVAL;
     }
-    if (o->job.noise_threshold > 0.0 && o->passes > 1) {
-        snprintf(err, errlen, "--passes: progressive passes do not combine with --noise-threshold (a pixel's "
-                              "samples are rendered in one go, so that where it stops depends on it alone)");
-        return RT_EINVAL;
-    }
     if (o->spp_map && !(o->job.noise_threshold > 0.0)) {
         snprintf(err, errlen, "--spp-map: the samples per pixel vary only with --noise-threshold");
         return RT_EINVAL;

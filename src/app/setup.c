@@ -125,7 +125,16 @@ static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *
         fprintf(stderr, "rt-mpi: warning: no memory for preview %s\n", path);
         return;
     }
-    int st = rt_image_write_rows(path, colour, o->job.width, o->job.height, committed, &wo);
+    /* with adaptive sampling each pixel's sums come scaled to -s samples
+     * (rt_image_extract): a row with samples shows them as -s */
+    uint32_t *rows = NULL;
+    if (run->renderer.lay.count && (rows = malloc(o->job.height * sizeof *rows)))
+        for (uint32_t y = 0; y < o->job.height; y++)
+            rows[y] = committed[y] ? o->job.samples : 0;
+    int st = rows || !run->renderer.lay.count ? rt_image_write_rows(path, colour, o->job.width, o->job.height,
+                                                                     rows ? rows : committed, &wo)
+                                              : RT_ENOMEM;
+    free(rows);
     if (colour != acc)
         rt_mem_free(colour, n * sizeof *colour);
     if (st)

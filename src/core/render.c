@@ -219,29 +219,20 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     return (uint32_t)segs;
 }
 
-/* A pixel's sums while its samples are traced: fixed-point colour (and the
- * denoiser's buffers when asked for), and for adaptive sampling the
- * luminance's sum and sum of squares, in sample order. */
+/* A pixel's sums while its samples are traced: fixed-point colour, and
+ * the denoiser's buffers when asked for. */
 typedef struct pixel_acc {
     int64_t c[3], aov[6];
-    double l, l2;
 } pixel_acc;
 
 static inline int64_t fix_signed(double v) { return v < 0.0 ? -rt_render_fix(-v) : rt_render_fix(v); }
 
 /* Adds one sample: its light, and what its path saw first (aov, or NULL). */
-static inline void add_sample(pixel_acc *a, rt_vec3 c, const int adapt, const aov_rec *aov)
+static inline void add_sample(pixel_acc *a, rt_vec3 c, const aov_rec *aov)
 {
-    const int64_t f0 = rt_render_fix(c.x), f1 = rt_render_fix(c.y), f2 = rt_render_fix(c.z);
-    a->c[0] += f0;
-    a->c[1] += f1;
-    a->c[2] += f2;
-    if (adapt) {
-        /* exact in a double: each is below 2^42 */
-        const double l = (double)(f0 + f1 + f2) * (1.0 / (3.0 * RT_FIX_ONE));
-        a->l += l;
-        a->l2 += l * l;
-    }
+    a->c[0] += rt_render_fix(c.x);
+    a->c[1] += rt_render_fix(c.y);
+    a->c[2] += rt_render_fix(c.z);
     if (aov) {
         a->aov[0] += rt_render_fix(aov->albedo.x);
         a->aov[1] += rt_render_fix(aov->albedo.y);
@@ -252,34 +243,47 @@ static inline void add_sample(pixel_acc *a, rt_vec3 c, const int adapt, const ao
     }
 }
 
-int rt_render_converged(double sum, double sum2, uint32_t n, double threshold)
+uint32_t rt_render_adapt_count(double sum, double sum2, uint32_t n, double threshold, uint32_t samples)
 {
-    const double mean = sum / n;
+    const double mean = sum / n, ref = mean > RT_ADAPT_FLOOR ? mean : RT_ADAPT_FLOOR;
     double var = (sum2 - sum * mean) / (double)(n - 1);
-    /* Samples that are all the same say too little: a path that survives
-     * the roulette (or finds a light) with probability p gives n equal
-     * values p^n of the time, and stopping there would keep the unlucky
-     * mean. Such a pixel goes on to the next count. (1e-9: far above the
-     * rounding of equal samples' sums, far below any spread that counts.) */
-    if (!(var > 1e-9 * mean * mean))
-        return 0;
-    const double err = sqrt(var / n);
-    return err <= threshold * (mean > RT_ADAPT_FLOOR ? mean : RT_ADAPT_FLOOR);
+    var = var > 0.0 ? var : 0.0;
+    /* the standard error of the mean of m samples is sqrt(var / m) */
+    const double need = var / (threshold * ref * threshold * ref);
+    uint32_t m = RT_ADAPT_FIRST;
+    while (m < samples && (double)m < need)
+        m *= 2;
+    return m < samples ? m : samples;
 }
 
-/* Whether a pixel that has n samples stops there: at the fixed counts
- * (RT_ADAPT_FIRST times a power of two) below the job's samples, by that
- * pixel's own samples only, so that the decision is the same on any rank. */
-static inline int adapt_stop(const rt_renderer *r, const pixel_acc *a, uint32_t n)
+/* The luminance of a sample as its fixed-point colour has it. */
+static inline double luminance(rt_vec3 c)
 {
-    const uint32_t q = n / RT_ADAPT_FIRST;
-    return n % RT_ADAPT_FIRST == 0 && q && !(q & (q - 1)) && n < r->job.samples &&
-           rt_render_converged(a->l, a->l2, n, r->job.noise_threshold);
+    /* exact in a double: each is below 2^42 */
+    return (double)(rt_render_fix(c.x) + rt_render_fix(c.y) + rt_render_fix(c.z)) * (1.0 / (3.0 * RT_FIX_ONE));
+}
+
+uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t *segments)
+{
+    /* the pixel's key for a seed of their own: numbers independent of its
+     * samples' */
+    const uint64_t key = rt_rng_pixel_key(r->job.seed ^ RT_ADAPT_PILOT_SALT, (uint64_t)y * r->job.width + x);
+    uint32_t pfirst;
+    const int32_t pn = primary_list(r, x, y, &pfirst);
+    double l = 0, l2 = 0;
+    for (uint32_t k = 0; k < RT_ADAPT_FIRST; k++) {
+        rt_sampler smp;
+        rt_ray cam = camera_ray(r, x, y, key, k, &smp);
+        const double v = luminance(trace_path(r, cam, &smp, segments, NULL, pfirst, pn, NULL));
+        l += v;
+        l2 += v * v;
+    }
+    return rt_render_adapt_count(l, l2, RT_ADAPT_FIRST, r->job.noise_threshold, r->job.samples);
 }
 
 /* The samples s0..s1-1 of pixel (x, y) added in fixed point to px (the
- * pixel's values, r->lay); with adaptive sampling (which needs s0 = 0),
- * fewer when the pixel stops early. extras: the job may have adaptive
+ * pixel's values, r->lay); with adaptive sampling only those below the
+ * pixel's count (rt_render_pilot), and the count of them. extras: the job may have adaptive
  * sampling or buffers (r->lay.ch > 3); a constant, so that the path loop
  * of a plain job has none of their code (+3.1 % instructions with it). */
 static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
@@ -292,6 +296,11 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     uint32_t pfirst;
     const int32_t pn = primary_list(r, x, y, &pfirst);
     const int adapt = extras && r->lay.count != 0, aovs = extras && (r->lay.albedo || r->lay.normal);
+    if (adapt) { /* the pixel takes samples [0, its count) */
+        const uint32_t n = rt_render_pilot(r, x, y, &segs);
+        s1 = s1 < n ? s1 : n;
+        s0 = s0 < s1 ? s0 : s1;
+    }
     uint32_t s = s0;
 #if RT_BVH_HAVE_AVX
     if (avx) {
@@ -305,7 +314,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
          * traversal would find (rt_sphere_closer's rule), and each path
          * draws from its own RNG, so the pixels are the same bits as from
          * trace_path (the same numbers in the same order, roulette
-         * included). The adaptive counts are multiples of PACKET. */
+         * included). */
         while (s < s1) {
             const int n = s1 - s < PACKET ? (int)(s1 - s) : PACKET, all = (1 << n) - 1;
             rt_ray ray[PACKET];
@@ -353,10 +362,8 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
                                     aovs ? &aov[k] : NULL);
             }
             for (int k = 0; k < n; k++)
-                add_sample(&acc, col[k], adapt, aovs ? &aov[k] : NULL);
+                add_sample(&acc, col[k], aovs ? &aov[k] : NULL);
             s += (uint32_t)n;
-            if (adapt && adapt_stop(r, &acc, s))
-                break;
         }
     } else
 #else
@@ -366,12 +373,8 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
             rt_sampler smp;
             rt_ray cam = camera_ray(r, x, y, key, s, &smp);
             aov_rec aov = {0, {0, 0, 0}, {0, 0, 0}};
-            add_sample(&acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn, aovs ? &aov : NULL), adapt,
+            add_sample(&acc, trace_path(r, cam, &smp, &segs, NULL, pfirst, pn, aovs ? &aov : NULL),
                        aovs ? &aov : NULL);
-            if (adapt && adapt_stop(r, &acc, s + 1)) {
-                s++;
-                break;
-            }
         }
     px[0] += acc.c[0];
     px[1] += acc.c[1];

@@ -33,10 +33,7 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
         return RT_EINVAL;
     s->height = job->height;
     s->samples = job->samples;
-    /* Adaptive sampling: a pixel's samples in one unit, so that where it
-     * stops is decided by its own samples on one rank (render.h). */
-    const int whole = job->noise_threshold > 0.0;
-    s->passes = whole || p->passes < 1 ? 1 : p->passes > job->samples ? job->samples : p->passes;
+    s->passes = p->passes < 1 ? 1 : p->passes > job->samples ? job->samples : p->passes;
     s->committed = calloc(job->height, sizeof *s->committed);
     if (!s->committed)
         return RT_ENOMEM;
@@ -56,7 +53,7 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
     /* Sample split inside a pass: when even one-row bands are too few. */
     uint32_t splits = 1;
     uint32_t pass_len = job->samples / s->passes;
-    if (!whole && todo > 0 && (uint64_t)todo < want) {
+    if (todo > 0 && (uint64_t)todo < want) {
         uint64_t k = (want + todo - 1) / todo;
         uint64_t kmax = pass_len / min_s;
         if (kmax < 1)

@@ -6,9 +6,7 @@
  * pass unless progressive), and within a pass in row order, the larger
  * first and smaller towards the end (guided scheduling), so the tail of the
  * job is made of short units that keep every rank busy. When there are too
- * few row bands for the ranks, bands are split into sample ranges, except
- * with adaptive sampling (job.h), where a unit always has every sample of
- * its rows and there is one pass.
+ * few row bands for the ranks, bands are split into sample ranges.
  *
  * Commit order: a unit's sums are added to the image only when every sample
  * before s0 is already in for its rows (committed[y] == s0); the farm holds

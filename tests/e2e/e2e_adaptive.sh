@@ -2,8 +2,9 @@
 # e2e_adaptive.sh BIN SERIAL_BIN MPIRUN
 # Adaptive sampling (--noise-threshold, --spp-map) and the denoiser's
 # buffers (--aov) through the whole program: the image, the buffers and the
-# samples-per-pixel map are byte-identical for any -np, -j and --band, in
-# the build without MPI and across a resume; the summary and --stats count
+# samples-per-pixel map are byte-identical for any -np, -j, --band and
+# --passes, in the build without MPI and across a resume (also of a
+# progressive run); the summary and --stats count
 # the samples as the map shows them; bad combinations are refused.
 BIN=$1 SERIAL=$2 MPIRUN=${3:-}
 source "$(dirname "$0")/../support/lib.sh"
@@ -35,13 +36,16 @@ variant "-j 2" j2 "$BIN" -j 2
 variant "-j 2 --band 1" b1 "$BIN" -j 2 --band 1
 variant "-j 1 --band 7" b7 "$BIN" -j 1 --band 7
 variant "build without MPI" serial "$SERIAL" -j 2
+# Progressive passes: the same files, and a preview.
+variant "--passes 4" p4 "$BIN" -j 2 --passes 4 --preview "$WORK/p4.preview.png"
+[ -s "$WORK/p4.preview.png" ] && pass "--passes 4 wrote a preview" || fail "--passes 4: no preview"
 if [ -n "$MPIRUN" ]; then
     variant "mpirun -np 2" np2 mpirun_np 2 "$BIN" -j 1
     variant "mpirun -np 3 --band 1" np3 mpirun_np 3 "$BIN" -j 1 --band 1
     variant "mpirun -np 4 --band 5 -j 2" np4 mpirun_np 4 "$BIN" -j 2 --band 5
-    # Fewer rows than the ranks want units: other jobs split rows into
-    # sample ranges, an adaptive one must not (a pixel's samples decide
-    # together where it stops).
+    variant "mpirun -np 3 --passes 3 --band 2" np3p mpirun_np 3 "$BIN" -j 1 --passes 3 --band 2
+    # Fewer rows than the ranks want units: rows split into sample ranges,
+    # each unit computes its pixels' counts from their pilots.
     S=(--width 96 --height 4 -s 64 --noise-threshold 0.05 -q)
     "$BIN" "${S[@]}" -j 1 -o "$WORK/few.png" >/dev/null
     mpirun_np 3 "$BIN" "${S[@]}" -j 1 --band 1 -o "$WORK/few3.png" >/dev/null
@@ -104,13 +108,21 @@ check_eq "resume exit status" $? 0
 grep -q "of the samples restored" "$WORK/r.out" && pass "resume used the checkpoint" || fail "resume restored nothing"
 cmp -s "$WORK/r.png" "$WORK/rref.png" && cmp -s "$WORK/r.albedo.pfm" "$WORK/rref.albedo.pfm" &&
     pass "resumed image and albedo identical" || fail "resumed files differ"
+# A progressive run stopped after a checkpoint, resumed without passes.
+"$BIN" "${R[@]}" -j 2 --passes 5 -o "$WORK/rp.png" --checkpoint-interval 0 >/dev/null 2>&1 &
+pid=$!
+for ((i = 0; i < 600; i++)); do [ -s "$WORK/rp.png.ckpt" ] && break; sleep 0.1; done
+kill -TERM $pid
+wait $pid
+check_eq "stopped progressive run's exit status" $? 75
+"$BIN" "${R[@]}" -j 2 -o "$WORK/rp.png" --resume >/dev/null 2>&1
+cmp -s "$WORK/rp.png" "$WORK/rref.png" && cmp -s "$WORK/rp.albedo.pfm" "$WORK/rref.albedo.pfm" &&
+    pass "progressive run resumed: identical" || fail "progressive run resumed: files differ"
 
 # Bad combinations: one line, exit status 2, no file.
 OUT="$WORK/out/o.png"
 expect_usage_error "threshold 0" "--noise-threshold: '0' is not a number above 0" "$BIN" --noise-threshold 0 -o "$OUT"
 expect_usage_error "threshold junk" "--noise-threshold: '0.1x'" "$BIN" --noise-threshold 0.1x -o "$OUT"
-expect_usage_error "threshold with passes" "--passes: progressive passes do not combine" \
-    "$BIN" --noise-threshold 0.1 --passes 2 -s 4 -o "$OUT"
 expect_usage_error "map without threshold" "--spp-map: the samples per pixel vary only" \
     "$BIN" --spp-map "$WORK/out/m.png" -o "$OUT"
 expect_usage_error "unknown buffer" "--aov: 'depth' is not albedo or normal" "$BIN" --aov albedo,depth -o "$OUT"
