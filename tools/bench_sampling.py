@@ -3,8 +3,9 @@
                      [--scenes a,b,c] [--rounds R] [--quick]
 
 Time to the same error (issue 28): per scene, renders with each sampler
-configuration (random = today's sampler, sobol, sobol + Russian roulette)
-at several sample counts, and prints samples, ray segments, render wall
+configuration (random = today's sampler, sobol, sobol + Russian roulette,
+and that with adaptive sampling at three noise thresholds, where the
+sample count is the most a pixel may take) at several sample counts, and prints samples, ray segments, render wall
 time, RMSE and 8x8-block RMSE against a reference, the mean's offset from
 the reference, and the time and the ray segments each configuration needs
 to reach the RMSE of the random sampler at 500 spp (the sample count
@@ -13,10 +14,10 @@ random sampler's.
 
 Time: on a shared machine one render's wall time says little (here two
 cores shared with other jobs: the same render took 1x to 3x as long from
-one minute to the next). So each configuration's cost per sample is
+one minute to the next). So each configuration's cost per ray segment is
 measured apart, as the fastest of R interleaved renders of the same job
-(64 spp), and time = samples x that cost; the quality renders' own wall
-times are printed as they came.
+(64 spp), and time = the render's ray segments (counted exactly) x that
+cost; the quality renders' own wall times are printed as they came.
 
 The reference is rendered once with the random sampler (cached under
 BUILD/bench_sampling/) as two halves with seeds of their own: the scene is
@@ -29,6 +30,7 @@ Not a test: timings depend on the machine and its load (two shared cores
 here: -j 2, and each render R times, the fastest kept).
 """
 import argparse
+import json
 import math
 import os
 import re
@@ -42,6 +44,9 @@ CONFIGS = [  # name, options, sample counts
     ("random", ["--sampler", "random"], [125, 250, 500, 1000]),
     ("sobol", ["--sampler", "sobol", "--no-roulette"], [32, 64, 128, 256, 500]),
     ("sobol+rr", ["--sampler", "sobol", "--roulette"], [32, 64, 128, 256, 500]),
+    ("adapt0.05", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.05"], [128, 256, 512, 1024]),
+    ("adapt0.02", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.02"], [128, 256, 512, 1024]),
+    ("adapt0.01", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.01"], [128, 256, 512, 1024, 2048]),
 ]
 TARGET = ("random", 500)
 
@@ -102,7 +107,10 @@ def time_to(points, target):
     if m0 <= 0 or m1 <= 0 or m0 == m1:
         return float("nan"), "?"
     f = math.log(m0 / target) / math.log(m0 / m1)
-    return math.exp(math.log(t0) + f * math.log(t1 / t0)), "~"
+    t = math.exp(min(math.log(t0) + f * math.log(t1 / t0), 700.0))
+    if f < 0 or t > 4 * pts[-1][0]:  # the error all but stopped falling: not within reach
+        return float("inf"), ">"
+    return t, "~"
 
 
 def main():
@@ -124,7 +132,7 @@ def main():
     size = ["--width", str(o.width), "--height", str(o.height), "-j", str(o.threads), "-q", "--no-checkpoint"]
     version = subprocess.run([binary, "--version"], check=True, capture_output=True, text=True).stdout.strip()
     print(f"# {version}; {o.width}x{o.height}, -j {o.threads}, reference {o.ref_spp} spp (random sampler), "
-          f"cost per sample: fastest of {o.rounds} interleaved 64-spp renders")
+          f"cost per ray segment: fastest of {o.rounds} interleaved 64-spp renders")
     summary = []
     for scene in o.scenes.split(","):
         sfile = os.path.join(cache, f"{scene}.json")
@@ -146,44 +154,46 @@ def main():
         ref_means = channel_means(ref)
         print(f"\n## {scene}: reference's own RMSE {math.sqrt(ref_mse):.5f} (taken off below), "
               f"channel means {ref_means[0]:.4f} {ref_means[1]:.4f} {ref_means[2]:.4f}")
-        print(f"{'config':<10} {'spp':>5} {'segments':>11} {'seg/sample':>10} {'time s':>8} {'RMSE':>8} "
-              f"{'8x8 RMSE':>9} {'mean - ref (r g b)':>26}")
+        print(f"{'config':<10} {'spp':>5} {'mean spp':>8} {'segments':>11} {'seg/sample':>10} {'time s':>8} "
+              f"{'RMSE':>8} {'8x8 RMSE':>9} {'mean - ref (r g b)':>26}")
         points = {}
         for name, opts, spps in CONFIGS:
             for spp in spps:
                 out = os.path.join(cache, f"out_{scene}_{name}_{spp}.pfm")
-                best, segs = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(spp), "-o", out]
-                                 + opts + size)
+                best, segs = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(spp), "-o", out,
+                                          "--stats", out + ".json"] + opts + size)
+                with open(out + ".json") as f:
+                    mean_spp = json.load(f).get("adaptive", {}).get("mean_samples_per_pixel", spp)
                 img = read_pfm(out)[2]
                 e = max(mse(img, ref) - ref_mse, 1e-30)
                 eb = max(mse(block_means(w, h, img), ref_blocks) - ref_block_mse, 1e-30)
                 means = channel_means(img)
                 d = " ".join(f"{m - r:+.5f}" for m, r in zip(means, ref_means))
-                print(f"{name:<10} {spp:>5} {segs:>11} {segs / (w * h * spp):>10.3f} {best:>8.3f} "
+                print(f"{name:<10} {spp:>5} {mean_spp:>8.1f} {segs:>11} {segs / (w * h * mean_spp):>10.3f} {best:>8.3f} "
                       f"{math.sqrt(e):>8.5f} {math.sqrt(eb):>9.5f} {d:>26}")
                 points.setdefault(name, []).append((spp, e, segs))
-        # cost per sample: the fastest of R interleaved renders of each
+        # cost per ray segment: the fastest of R interleaved renders of each
         cost = {name: float("inf") for name, _, _ in CONFIGS}
         for _ in range(o.rounds):
             for name, opts, _ in CONFIGS:
-                wall, _ = run(binary, ["--scene-file", sfile, "--seed", "7", "-s", "64", "-o",
-                                       os.path.join(cache, "cost.pfm")] + opts + size)
-                cost[name] = min(cost[name], wall / 64)
-        print("cost per sample (us, whole image / pixels): " +
-              ", ".join(f"{n} {cost[n] * 1e6 / (w * h):.3f} ({cost[n] / cost['random']:.3f}x)" for n in cost))
+                wall, segs = run(binary, ["--scene-file", sfile, "--seed", "7", "-s", "64", "-o",
+                                          os.path.join(cache, "cost.pfm")] + opts + size)
+                cost[name] = min(cost[name], wall / segs)
+        print("cost per ray segment (ns): " +
+              ", ".join(f"{n} {cost[n] * 1e9:.2f} ({cost[n] / cost['random']:.3f}x)" for n in cost))
         t_name, t_spp = TARGET
         target = next(p[1] for p in points[t_name] if p[0] == t_spp)
         t_segs = next(p[2] for p in points[t_name] if p[0] == t_spp)
-        t_time = t_spp * cost[t_name]
+        t_time = t_segs * cost[t_name]
         print(f"to the RMSE of {t_name} at {t_spp} spp ({math.sqrt(target):.5f}): ", end="")
         parts = []
         for name, _, _ in CONFIGS:
             n, mark = time_to([(p[0], p[1]) for p in points[name]], target)
             s, smark = time_to([(p[2], p[1]) for p in points[name]], target)
-            t = n * cost[name]
-            parts.append(f"{name} {mark}{n:.0f} spp, {mark}{t:.2f} s ({mark}{t / t_time:.2f}x time, "
+            t = s * cost[name]
+            parts.append(f"{name} {mark}{n:.0f} spp, {smark}{t:.2f} s ({smark}{t / t_time:.2f}x time, "
                          f"{smark}{s / t_segs:.2f}x segments)")
-            summary.append((scene, name, t / t_time, s / t_segs, mark))
+            summary.append((scene, name, t / t_time, s / t_segs, smark))
         print(", ".join(parts))
     print("\n## summary: time and ray segments to the RMSE of random at 500 spp, relative to random")
     for scene, name, rt, rs, mark in summary:
