@@ -30,6 +30,23 @@ int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks)
         rt_ledger_free(L);
         return RT_ENOMEM;
     }
+    L->gfirst = calloc(n, sizeof *L->gfirst);
+    L->glen = calloc(n, sizeof *L->glen);
+    L->gnext = calloc(n, sizeof *L->gnext);
+    L->cur = malloc(r * sizeof *L->cur);
+    if (!L->gfirst || !L->glen || !L->gnext || !L->cur) {
+        rt_ledger_free(L);
+        return RT_ENOMEM;
+    }
+    for (size_t k = 0; k < r; k++)
+        L->cur[k] = -1;
+    /* groups: runs of units with the same rows whose samples follow on */
+    for (uint32_t i = 0; i < L->n; i++) {
+        const rt_unit *u = &s->units[i], *prev = i ? &s->units[i - 1] : NULL;
+        if (!prev || prev->y0 != u->y0 || prev->y1 != u->y1 || prev->s1 != u->s0)
+            L->gfirst[L->n_groups++] = i;
+        L->glen[L->n_groups - 1]++;
+    }
     /* A unit belongs to the pass whose samples it renders (units never
      * straddle a pass). */
     for (uint32_t i = 0, k = 0; i < L->n; i++) {
@@ -52,6 +69,10 @@ void rt_ledger_free(rt_ledger *L)
     free(L->assigned);
     free(L->held);
     free(L->pass_left);
+    free(L->gfirst);
+    free(L->glen);
+    free(L->gnext);
+    free(L->cur);
     memset(L, 0, sizeof *L);
 }
 
@@ -59,8 +80,22 @@ int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u)
 {
     if (L->n_requeue) {
         *u = s->units[L->requeue[--L->n_requeue]];
-    } else if (!rt_sched_next(s, u)) {
-        return 0;
+    } else {
+        int32_t g = L->cur[rank];
+        if (g < 0 || L->gnext[g] == L->glen[g]) {
+            while (L->fresh < L->n_groups && L->gnext[L->fresh] > 0)
+                L->fresh++;
+            while (L->any < L->n_groups && L->gnext[L->any] == L->glen[L->any])
+                L->any++;
+            if (L->fresh < L->n_groups)
+                g = (int32_t)L->fresh;
+            else if (L->any < L->n_groups)
+                g = (int32_t)L->any;
+            else
+                return 0;
+        }
+        *u = s->units[L->gfirst[g] + L->gnext[g]++];
+        L->cur[rank] = g;
     }
     L->state[u->id] = RT_UNIT_ASSIGNED;
     L->owner[u->id] = rank;

@@ -1,6 +1,11 @@
 /* ledger.h - rank 0's book of who holds which unit: queued, assigned to a
  * rank, done there (reported, its sums still held by the rank), or in the
- * image. When a rank is lost, every unit it assigned or held goes back to
+ * image. New units go out with affinity: the schedule's runs of a band's
+ * consecutive sample ranges in one pass (groups) stay with the rank that
+ * started them where they can, so that the rank adds them into one held
+ * piece (held.h) and sends the band's sums once, not once per range: a
+ * rank first continues its last group, then starts a group nobody has
+ * started, then takes the next range of any group (the job's tail). When a rank is lost, every unit it assigned or held goes back to
  * the queue, ahead of the units never handed out, and whatever the lost
  * rank sends later is refused (its owner check fails), so each unit's sums
  * enter the image exactly once. No MPI, no threads (the caller locks);
@@ -27,14 +32,20 @@ typedef struct rt_ledger {
     uint32_t *held;     /* per rank: done, sums not yet in */
     uint32_t passes;
     uint32_t *pass_left; /* per pass: units not yet done */
+    /* groups (units gfirst[g] .. + glen[g] in schedule order), how many of
+     * each are handed out, the first group perhaps untouched, the first
+     * perhaps with units left, and each rank's last group (-1: none) */
+    uint32_t *gfirst, *glen, *gnext;
+    uint32_t n_groups, fresh, any;
+    int32_t *cur;
 } rt_ledger;
 
 /* Every unit of s starts queued. */
 int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks);
 void rt_ledger_free(rt_ledger *L);
 
-/* The next unit for rank: a requeued one, else the schedule's next.
- * 0 when there is none. */
+/* The next unit for rank: a requeued one, else a new one by affinity
+ * (above). 0 when there is none. */
 int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u);
 /* rank reports unit id done: 1, or 0 when the unit is not assigned to it
  * (a report of a lost rank, or a bad id). */

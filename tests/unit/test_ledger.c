@@ -1,7 +1,8 @@
 /* test_ledger.c - rank 0's book of units: each unit is handed out once,
  * reported and taken in only by its owner, a lost rank's units (assigned
  * or done) are handed out again before new ones and in schedule order,
- * its later words are refused, passes finish when their units are done. */
+ * its later words are refused, passes finish when their units are done,
+ * and a rank continues the sample ranges of the band it started. */
 #include <stdlib.h>
 
 #include "check.h"
@@ -59,8 +60,19 @@ int main(void)
     CHECK_EQ_INT(u.id, a[2].id);
     CHECK(rt_ledger_take(&L, &s, 0, &u));
     CHECK_EQ_INT(u.id, a[3].id);
+    /* Then new units by affinity. The rows of 20 are fewer than 3 ranks x
+     * 8 units want: each band's pass is split into 2 sample ranges, a
+     * group. Rank 1 took groups 0 and 1 whole, rank 2 group 2 and the first
+     * range of group 3 (b[2]); rank 0 starts group 4, rank 2 continues
+     * group 3. */
+    CHECK_EQ_INT(L.glen[0], 2);
+    CHECK_EQ_INT(a[1].id, a[0].id + 1);
+    CHECK_EQ_INT(b[2].id, 6);
     CHECK(rt_ledger_take(&L, &s, 0, &u));
-    CHECK_EQ_INT(u.id, b[2].id + 1); /* then the schedule goes on */
+    CHECK_EQ_INT(u.id, b[2].id + 2);
+    CHECK(rt_ledger_take(&L, &s, 2, &u));
+    CHECK_EQ_INT(u.id, b[2].id + 1);
+    CHECK_EQ_INT(u.s0, b[2].s1); /* its next sample range */
 
     /* Everything else done and in, by rank 2 and rank 0: each unit once. */
     rt_ledger_free(&L);
