@@ -41,7 +41,7 @@ typedef struct rt_run_summary {
 } rt_run_summary;
 
 /* Where adaptive sampling put the samples: the mean per pixel, and how
- * many pixels stopped at each count (RT_ADAPT_FIRST << k; the last level
+ * many pixels took each count (RT_ADAPT_FIRST << k; the last level
  * holds the pixels that took all -s). */
 #define RT_SPP_LEVELS 24
 typedef struct rt_spp_stats {

@@ -145,7 +145,7 @@ static void write_extras(rt_run *run)
     }
 }
 
-/* Where adaptive sampling put the samples: the pixels that stopped at
+/* Where adaptive sampling put the samples: how many pixels took
  * each count. */
 static void spp_tally(rt_spp_stats *st, const int64_t *acc, size_t npix, rt_layout lay, uint32_t samples)
 {
@@ -167,7 +167,7 @@ static void spp_tally(rt_spp_stats *st, const int64_t *acc, size_t npix, rt_layo
 
 static void print_spp(const rt_spp_stats *st, uint32_t samples, size_t npix)
 {
-    printf("adaptive:      %.1f samples per pixel (%.1f%% of %u); pixels stopped at", st->mean,
+    printf("adaptive:      %.1f samples per pixel (%.1f%% of %u, pilots aside); pixels taking", st->mean,
            100.0 * st->mean / samples, samples);
     for (uint32_t k = 0; k < st->n_levels; k++)
         printf("%s %u: %.1f%%", k ? "," : "", st->count[k], 100.0 * (double)st->pixels[k] / (double)npix);

@@ -21,9 +21,8 @@ typedef struct rt_job {
     /* Bounces before the roulette; 0 means RT_RENDER_ROULETTE_DEPTH (tests
      * start it at the first bounce, where a furnace shows its weight). */
     uint32_t roulette_depth;
-    /* Adaptive sampling: 0 = off, else a pixel stops at the first of the
-     * counts RT_ADAPT_FIRST, 2 RT_ADAPT_FIRST, 4 RT_ADAPT_FIRST, ... below
-     * samples where its estimated relative error is below this (render.h). */
+    /* Adaptive sampling: 0 = off, else the relative error a pixel's count
+     * of samples is chosen for (render.h: RT_ADAPT_*). */
     double noise_threshold;
     uint32_t aov; /* RT_AOV_* bits: the buffers a denoiser wants */
 } rt_job;
