@@ -7,7 +7,9 @@
  *   progressive passes do) adds up to the same sums and count;
  * - no bias: the furnace (a lambertian sphere of albedo a under a white
  *   sky, roulette from the first bounce) comes out a within 5 standard
- *   errors for each sampler, with and without roulette. (The first rule
+ *   errors for each sampler, with and without roulette; the final scene's
+ *   channel means match a random-sampler reference within 5 standard
+ *   errors. (The first rule
  *   tried, stopping a pixel by its own samples at 16, 32, 64, ..., was
  *   1.3 % too bright here with the random sampler: the pilot's numbers are
  *   independent of the samples it counts.) */
@@ -126,10 +128,56 @@ static void check_furnace(void)
     rt_scene_free(&s);
 }
 
+/* The final scene's channel means with adaptive sampling against a
+ * reference of the random sampler at 1024 spp: each pixel's mean over its
+ * own count, the image's mean of those, its standard error from every
+ * pixel's sample spread over its count. */
+static void check_final_means(void)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_final(&s, 5, 2), RT_OK);
+    rt_accel *a;
+    CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
+    const uint32_t W = 24, H = 16;
+    double mean[2][3] = {{0}}, var[2][3] = {{0}};
+    for (int c = 0; c < 2; c++) {
+        rt_job p = {W, H, c ? 256 : 1024, 50, 12, RT_DIFFUSE_LAMBERTIAN, c ? RT_SAMPLER_SOBOL : RT_SAMPLER_RANDOM,
+                    c, 0, c ? 0.02 : 0, 0};
+        rt_renderer r;
+        CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++) {
+                uint64_t segs = 0;
+                const uint32_t n = c ? rt_render_pilot(&r, x, y, &segs) : p.samples;
+                double m[3] = {0}, m2[3] = {0};
+                for (uint32_t k = 0; k < n; k++) {
+                    rt_vec3 v = rt_render_sample(&r, x, y, k, &segs);
+                    const double e[3] = {v.x, v.y, v.z};
+                    for (int ch = 0; ch < 3; ch++)
+                        m[ch] += e[ch] / n, m2[ch] += e[ch] * e[ch] / n;
+                }
+                for (int ch = 0; ch < 3; ch++) {
+                    mean[c][ch] += m[ch] / (W * H);
+                    var[c][ch] += (m2[ch] - m[ch] * m[ch]) / n / ((double)W * H * W * H);
+                }
+            }
+    }
+    printf("final scene, adaptive 0.02 (256 spp at most) against random at 1024 spp:");
+    for (int ch = 0; ch < 3; ch++) {
+        const double tol = 5 * sqrt(var[0][ch] + var[1][ch]);
+        printf(" %.5f (off %+.5f, tolerance %.5f)", mean[1][ch], mean[1][ch] - mean[0][ch], tol);
+        CHECK_NEAR(mean[1][ch], mean[0][ch], tol);
+    }
+    printf("\n");
+    rt_accel_free(a);
+    rt_scene_free(&s);
+}
+
 int main(void)
 {
     check_rule();
     check_replay();
     check_furnace();
+    check_final_means();
     CHECK_DONE();
 }
