@@ -58,6 +58,35 @@ int main(void)
     other.job.roulette = 0;
     CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
     CHECK(strstr(why, "roulette 1") != NULL);
+    other = job;
+    other.job.aov = RT_AOV_ALBEDO;
+    CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+    CHECK(strstr(why, "--aov") != NULL);
+    other = job;
+    other.job.noise_threshold = 0.05;
+    CHECK_EQ_INT(rt_ckpt_read(path, &other, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+    CHECK(strstr(why, "noise threshold") != NULL);
+
+    /* A wide layout (adaptive count and both buffers: 10 values a pixel)
+     * round-trips whole rows. */
+    {
+        rt_ckpt_id wide = job;
+        wide.job.noise_threshold = 0.02;
+        wide.job.aov = RT_AOV_ALBEDO | RT_AOV_NORMAL;
+        CHECK_EQ_INT(rt_job_layout(&wide.job).ch, 10);
+        int64_t wa[5 * 7 * 10], wb[5 * 7 * 10];
+        for (int i = 0; i < 5 * 7 * 10; i++)
+            wa[i] = (int64_t)i * 7919 - 300;
+        CHECK_EQ_INT(rt_ckpt_write(path, &wide, done, wa), RT_OK);
+        CHECK_EQ_INT(rt_ckpt_read(path, &wide, done2, wb, &n, why, sizeof why), RT_OK);
+        int wide_ok = 1;
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t i = 0; i < W * 10; i++)
+                wide_ok &= wb[y * W * 10 + i] == (done[y] ? wa[y * W * 10 + i] : 0);
+        CHECK(wide_ok);
+        CHECK_EQ_INT(rt_ckpt_read(path, &job, done2, back, &n, why, sizeof why), RT_EMISMATCH);
+        CHECK_EQ_INT(rt_ckpt_write(path, &job, done, acc), RT_OK); /* as the rest expects */
+    }
 
     /* A sample count above the job's is refused even with a valid checksum. */
     uint32_t over[7] = {17, 0, 0, 0, 0, 0, 0};

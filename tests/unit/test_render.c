@@ -196,6 +196,32 @@ int main(void)
     CHECK_EQ_INT(out[0], 0);
     CHECK_EQ_INT(out[1], 128); /* sqrt(0.25) * 256 */
     CHECK_EQ_INT(out[2], 255); /* clamped to 0.999 */
+    /* A wide layout (adaptive count, normal) to 3 sums of -s samples: the
+     * colour scaled from each pixel's count (rounded half away from zero),
+     * a signed buffer likewise, a pixel with no samples 0. */
+    rt_job wj = {2, 1, 64, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0.05, RT_AOV_NORMAL};
+    const rt_layout wl = rt_job_layout(&wj);
+    CHECK_EQ_INT(wl.ch, 7);
+    CHECK_EQ_INT(wl.count, 3);
+    CHECK_EQ_INT(wl.normal, 4);
+    CHECK_EQ_INT(wl.albedo, 0);
+    const int64_t big = (int64_t)1 << 60; /* big * 64 needs more than 64 bits */
+    int64_t wide[14] = {16, 17, big, 16, -16, -17, 0, 5, 6, 7, 0, 1, 2, 3};
+    int64_t got[6];
+    rt_image_extract(wide, 2, wl, 0, 64, got);
+    CHECK_EQ_INT(got[0], 64);
+    CHECK_EQ_INT(got[1], 68);
+    CHECK_EQ_INT(got[2], big * 4); /* 2^60 * 64 / 16 */
+    CHECK_EQ_INT(got[3] | got[4] | got[5], 0);
+    rt_image_extract(wide, 2, wl, wl.normal, 64, got);
+    CHECK_EQ_INT(got[0], -64);
+    CHECK_EQ_INT(got[1], -68);
+    CHECK_EQ_INT(got[2], 0);
+    wide[3] = 48; /* 17 * 64 / 48 = 22.67: 23; -17 * 64 / 48: -23 */
+    rt_image_extract(wide, 1, wl, 0, 64, got);
+    CHECK_EQ_INT(got[1], 23);
+    rt_image_extract(wide, 1, wl, wl.normal, 64, got);
+    CHECK_EQ_INT(got[1], -23);
     CHECK_EQ_INT(rt_render_fix(-1.0), 0);
     CHECK_EQ_INT(rt_render_fix(NAN), 0);
     CHECK_EQ_INT(rt_render_fix(1e9), (int64_t)(RT_SAMPLE_MAX * RT_FIX_ONE));
