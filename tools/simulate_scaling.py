@@ -32,9 +32,10 @@ The farm as built (--farm v2, the default; src/farm/ since df446ae):
     (--service-byte + 1/bandwidth); a worker packs a flush at --pack-byte;
   - the makespan ends when rank 0 holds every sum; the final combination
     is the time from the last report to the last sums.
-  Policy "affinity" (not built): a rank continues the band whose sample
-  ranges it was last given. --reports-first (not built): rank 0 reads
-  reports before sums.
+  Policy "affinity" (the farm as built since its ledger hands out by
+  affinity; "split" is the farm before it): a rank continues the band
+  whose sample ranges it was last given. --reports-first (not built):
+  rank 0 reads reports before sums.
 
 The farm before df446ae (--farm v1; docs/notes/scaling-v1.md), every
 number an option:
@@ -444,7 +445,7 @@ def piece_bytes(width, y0, y1, n_ids):
 
 class Picker:
     """Which queued unit a rank gets next. "fifo": schedule order (the farm
-    as built, policies bands and split). "affinity" (not built): a rank
+    before affinity, policies bands and split). "affinity" (as built): a rank
     first continues the band whose sample ranges it was last given, then
     starts a band nobody has started, then takes the next range of any band
     (the tail), so a row's sample ranges mostly stay on one rank."""
@@ -830,7 +831,8 @@ def parse_ranks(s):
 
 
 def compare(job, m, args):
-    """Prediction (policy split: the farm as built) for the rank count of
+    """Prediction (policy affinity, the farm as built; split with --farm v1)
+    for the rank count of
     the measured runs (repeats of one configuration), next to what they
     measured: per rank units, busy share and rows (mean over the runs, with
     the range), rank 0's message count and the load imbalance."""
@@ -841,8 +843,8 @@ def compare(job, m, args):
     N = int(runs[0]["ranks"])
     if any(int(x["ranks"]) != N for x in runs):
         raise SystemExit("simulate_scaling: --compare runs differ in rank count")
-    res = simulate(job, N, m, "split")
     v2 = m.farm == "v2"
+    res = simulate(job, N, m, "affinity" if v2 else "split")
     pu, pb, prow = res["per_rank_units"], res["per_rank_busy"], res["per_rank_rows"]
     spb = sum(pb) or 1.0
 
@@ -992,7 +994,7 @@ def main(argv=None):
     ap.add_argument("--slowdown", type=float, default=1.0, help="unit durations times this (shared cores)")
     ap.add_argument("--per-rank", action="store_true", help="print units and busy share per rank")
     ap.add_argument("--compare", metavar="STATS.json", nargs="+",
-                    help="print the prediction (policy split, the farm as built) next to these measured runs "
+                    help="print the prediction (policy affinity, the farm as built) next to these measured runs "
                          "(repeats of one configuration)")
     ap.add_argument("--compare-trace", metavar="TRACE.json", nargs="+",
                     help="the measured runs' traces (checked against their stats)")
