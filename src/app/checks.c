@@ -29,12 +29,14 @@ static int pick_threads(const rt_farm *f, const rt_options *o, char *err, size_t
     return rt_farm_default_threads(f);
 }
 
-/* Refuse up front a framebuffer the machine cannot hold: rank 0 keeps 24
- * bytes of sums per pixel, 3 bytes of 8-bit output for the hash, and the
- * output format's own pixels (up to 12 bytes: float RGB). */
+/* Refuse up front a framebuffer the machine cannot hold: rank 0 keeps 8
+ * bytes per value of a pixel's sums (3, or the wide layout's ch and the
+ * 3-sum image made from them, job.h), 3 bytes of 8-bit output for the
+ * hash, and the output format's own pixels (up to 12 bytes: float RGB). */
 static int check_memory(const rt_job *j, char *err, size_t errlen)
 {
-    double need = (double)j->width * j->height * ((rt_job_layout(j).ch + 3) * sizeof(int64_t) + 3 + 12);
+    const uint32_t ch = rt_job_layout(j).ch, sums = ch > 3 ? ch + 3 : ch;
+    double need = (double)j->width * j->height * (sums * sizeof(int64_t) + 3 + 12);
     long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
     double have = pages > 0 && page > 0 ? (double)pages * (double)page : 0;
     if (have > 0 && need > 0.9 * have) {

@@ -263,13 +263,13 @@ static inline double luminance(rt_vec3 c)
     return (double)(rt_render_fix(c.x) + rt_render_fix(c.y) + rt_render_fix(c.z)) * (1.0 / (3.0 * RT_FIX_ONE));
 }
 
-uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t *segments)
+/* rt_render_pilot, for a pixel whose camera-ray list is known. */
+static uint32_t pilot_count(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t pfirst, int32_t pn,
+                            uint64_t *segments)
 {
     /* the pixel's key for a seed of their own: numbers independent of its
      * samples' */
     const uint64_t key = rt_rng_pixel_key(r->job.seed ^ RT_ADAPT_PILOT_SALT, (uint64_t)y * r->job.width + x);
-    uint32_t pfirst;
-    const int32_t pn = primary_list(r, x, y, &pfirst);
     double l = 0, l2 = 0;
     for (uint32_t k = 0; k < RT_ADAPT_FIRST; k++) {
         rt_sampler smp;
@@ -279,6 +279,13 @@ uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t 
         l2 += v * v;
     }
     return rt_render_adapt_count(l, l2, RT_ADAPT_FIRST, r->job.noise_threshold, r->job.samples);
+}
+
+uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t *segments)
+{
+    uint32_t pfirst;
+    const int32_t pn = primary_list(r, x, y, &pfirst);
+    return pilot_count(r, x, y, pfirst, pn, segments);
 }
 
 /* The samples s0..s1-1 of pixel (x, y) added in fixed point to px (the
@@ -297,7 +304,7 @@ static inline __attribute__((always_inline)) uint64_t pixel(const rt_renderer *r
     const int32_t pn = primary_list(r, x, y, &pfirst);
     const int adapt = extras && r->lay.count != 0, aovs = extras && (r->lay.albedo || r->lay.normal);
     if (adapt) { /* the pixel takes samples [0, its count) */
-        const uint32_t n = rt_render_pilot(r, x, y, &segs);
+        const uint32_t n = pilot_count(r, x, y, pfirst, pn, &segs);
         s1 = s1 < n ? s1 : n;
         s0 = s0 < s1 ? s0 : s1;
     }

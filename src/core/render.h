@@ -52,8 +52,10 @@
  * stops sooner: +0.36 % on the final scene's mean when the rule looked at
  * the samples themselves at 16, 32, 64, ...); a count decided by numbers
  * independent of them is not. And any rank can compute it, for any
- * sample range of the pixel: the work splits as it does without. Powers of
- * two are where a Sobol sequence's points are evenly spread. */
+ * sample range of the pixel: the work splits as it does without. The
+ * price: every unit that renders a pixel traces its pilot again (a row
+ * split into k sample ranges, or k progressive passes, trace it k times).
+ * Powers of two are where a Sobol sequence's points are evenly spread. */
 #define RT_ADAPT_FIRST 16u
 #define RT_ADAPT_FLOOR 0.05
 #define RT_ADAPT_PILOT_SALT 0x70696c6f74ull /* "pilot" */
