@@ -36,7 +36,14 @@ void rt_run_ckpt_framebuffer(rt_run *run)
 {
     const rt_options *o = &run->opt;
     size_t n = (size_t)o->job.width * o->job.height * rt_job_layout(&o->job).ch;
-    run->acc = rt_mem_zeroed(n * sizeof *run->acc);
+    /* A fresh framebuffer is mapped while the render starts (mem.h); a
+     * checkpoint is read into every page of it first anyway. */
+    if (o->resume) {
+        run->acc = rt_mem_zeroed(n * sizeof *run->acc);
+    } else {
+        rt_mem_zeroed_early(&run->fb, n * sizeof *run->acc);
+        run->acc = run->fb.p;
+    }
     if (!run->acc)
         rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %u x %u framebuffer", o->job.width,
                      o->job.height);

@@ -40,7 +40,7 @@ void rt_cli_defaults(rt_options *o)
     o->checkpoint_interval = 60;
     o->prefetch = 2;
     o->lease = 5;
-    o->flush_interval = 1;
+    o->flush_interval = 0.1;
     o->flush_mb = 64;
     o->passes = 1;
     o->bit_depth = 8;
@@ -107,8 +107,10 @@ const char *rt_cli_usage(void)
            "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
            "      --lease <SECONDS>    A rank that rank 0 has not heard from for this long is lost: its\n"
            "                           units go to the others [default: 5]\n"
+           "      --split <HOW>        When rows are fewer than the ranks want: columns (tiles: each\n"
+           "                           pixel's sums travel once) or samples [default: columns]\n"
            "      --flush-interval <SECONDS>  A rank sends its sums at least this often (0: only when\n"
-           "                           rank 0 asks or it holds --flush-mb) [default: 1]\n"
+           "                           rank 0 asks or it holds --flush-mb) [default: 0.1]\n"
            "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: 64]\n"
            "\n"
            "Checkpoint:\n"
@@ -241,7 +243,8 @@ static const optdef OPTS[] = {
     {"stats", 0, K_PATH, F(stats), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
     {"lease", 0, K_U32, F(lease), 1, 86400},
-    {"flush-interval", 0, K_U32, F(flush_interval), 0, 86400},
+    {"flush-interval", 0, K_CHOICE, 0, 0, 0},
+    {"split", 0, K_CHOICE, 0, 0, 0},
     {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
@@ -307,6 +310,20 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
             return RT_EINVAL;
         }
         o->job.noise_threshold = v;
+    } else if (!strcmp(d->lng, "flush-interval")) {
+        char *end;
+        double v = strtod(val, &end);
+        if (end == val || *end || !(v >= 0.0 && v <= 86400.0)) {
+            snprintf(err, errlen, "%s: '%s' is not a number of seconds from 0 to 86400", name, val);
+            return RT_EINVAL;
+        }
+        o->flush_interval = v;
+    } else if (!strcmp(d->lng, "split")) {
+        if (strcmp(val, "columns") && strcmp(val, "samples")) {
+            snprintf(err, errlen, "%s: '%s' is not columns or samples", name, val);
+            return RT_EINVAL;
+        }
+        o->split = val[0] == 'c' ? RT_SPLIT_COLUMNS : RT_SPLIT_SAMPLES;
     } else if (!strcmp(d->lng, "aov")) {
         o->job.aov = 0;
         for (const char *p = val; *p;) {

@@ -35,7 +35,8 @@ typedef struct rt_options {
     const char *trace, *stats;  /* JSON outputs, or NULL */
     uint32_t prefetch;
     uint32_t lease;          /* seconds of silence after which a rank is lost */
-    uint32_t flush_interval; /* seconds between a rank's sends of its sums; 0: only when asked */
+    double flush_interval;   /* seconds between a rank's sends of its sums; 0: only when asked */
+    int split;               /* RT_SPLIT_COLUMNS or RT_SPLIT_SAMPLES (schedule.h) */
     uint32_t flush_mb;       /* a rank sends its sums once it holds this many MB */
     int empty_units;
     int serve_only;

@@ -78,14 +78,17 @@ int main(int argc, char **argv)
         code = rt_run_scene(&run, err, sizeof err);
     if (code)
         return stop(&run, code, err);
+    const double t_scene = rt_now();
 
     /* 4. Every rank builds the same renderer; rank 0 also the framebuffer,
      * the restored checkpoint and the hooks. */
     rt_run_renderer(&run);
     rt_run_job(&run);
+    run.setup = rt_now() - t_scene;
 
     /* 5. The render, across every rank. */
     rt_farm_render(&run.farm, &run.job, &run.res);
+    rt_mem_settle(&run.fb);
 
     /* 6. Rank 0: image file, summary, reports. */
     if (run.root)

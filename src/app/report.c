@@ -196,7 +196,8 @@ int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ra
         char name[80];
         if (!e)
             break;
-        snprintf(name, sizeof name, "rows %u-%u s %u-%u", t->unit.y0, t->unit.y1, t->unit.s0, t->unit.s1);
+        snprintf(name, sizeof name, "rows %u-%u x %u-%u s %u-%u", t->unit.y0, t->unit.y1, t->unit.x0, t->unit.x1,
+                 t->unit.s0, t->unit.s1);
         add_str(e, "name", name, &ok);
         add_str(e, "cat", "unit", &ok);
         add_str(e, "ph", "X", &ok);
@@ -208,6 +209,8 @@ int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ra
             add_num(args, "unit", t->unit.id, &ok);
             add_num(args, "y0", t->unit.y0, &ok);
             add_num(args, "y1", t->unit.y1, &ok);
+            add_num(args, "x0", t->unit.x0, &ok);
+            add_num(args, "x1", t->unit.x1, &ok);
             add_num(args, "s0", t->unit.s0, &ok);
             add_num(args, "s1", t->unit.s1, &ok);
         }
@@ -240,6 +243,7 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     add_num(doc, "rows_restored", s->rows_restored, &ok);
     add_num(doc, "render_seconds", s->wall, &ok);
     add_num(doc, "total_seconds", s->total_wall, &ok);
+    add_num(doc, "setup_seconds", s->setup, &ok);
     add_u64(doc, "ray_segments", s->segments, &ok);
     add_num(doc, "segments_per_second", s->wall > 0 ? (double)s->segments / s->wall : 0.0, &ok);
     if (s->spp) {

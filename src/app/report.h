@@ -33,6 +33,7 @@ typedef struct rt_run_summary {
     int mpi; /* MPI initialised (a launcher started the job) */
     uint32_t units, rows_restored;
     double wall, total_wall;
+    double setup; /* rank 0: from the scene broadcast to the render's start */
     uint64_t segments;
     const rt_rank_stats *per_rank;
     rt_report_origin origin;

@@ -13,6 +13,7 @@
 #include "checkpoint.h"
 #include "cli.h"
 #include "farm.h"
+#include "mem.h"
 #include "primary.h"
 #include "progress.h"
 #include "render.h"
@@ -25,6 +26,7 @@
 
 typedef struct rt_run {
     double t_start;
+    double setup;         /* seconds from the scene broadcast to the render's start */
     time_t start;         /* wall-clock start, for the reports */
     int argc;             /* the command line as given, for the reports */
     char **argv;
@@ -41,6 +43,7 @@ typedef struct rt_run {
     rt_ckpt_id ckpt;      /* the checkpoint's identity of this job */
     rt_farm_job job;
     int64_t *acc;         /* rank 0: the framebuffer of sums */
+    rt_mem_early fb;      /* its mapping, when it is mapped while the render starts */
     uint32_t *restored;   /* rank 0 on --resume: samples per row restored */
     uint32_t rows_restored;
     uint64_t samples_restored; /* sum over rows */

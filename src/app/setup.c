@@ -165,11 +165,12 @@ void rt_run_job(rt_run *run)
     memset(job, 0, sizeof *job);
     job->renderer = &run->renderer;
     job->sched = (rt_sched_params){.band = o->band, .max_band = 16, .ranks = (uint32_t)run->farm.size,
-                                   .units_per_rank = 8, .min_samples = 1, .passes = o->passes};
+                                   .units_per_rank = 16, .min_samples = 1, .passes = o->passes,
+                                   .split = o->split};
     job->threads = run->threads;
     job->prefetch = (int)o->prefetch;
     job->lease = o->lease;
-    job->flush_interval = o->flush_interval ? o->flush_interval : 1e30;
+    job->flush_interval = o->flush_interval > 0 ? o->flush_interval : 1e30;
     job->flush_bytes = (size_t)o->flush_mb << 20;
     job->empty_units = o->empty_units;
     job->root_serves_only = o->serve_only;

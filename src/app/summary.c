@@ -260,7 +260,7 @@ static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *
                                job_id && *job_id ? job_id : NULL};
     rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
                           run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
-                          rt_now() - run->t_start, res->segments, res->ranks, origin, res, spp};
+                          rt_now() - run->t_start, run->setup, res->segments, res->ranks, origin, res, spp};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));

@@ -22,6 +22,37 @@ void *rt_mem_zeroed(size_t bytes)
     return calloc(bytes ? bytes : 1, 1);
 }
 
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+static void *populate(void *arg)
+{
+    rt_mem_early *e = arg;
+    (void)madvise(e->p, e->bytes, MADV_POPULATE_WRITE); /* EINVAL before Linux 5.14: pages fault in as used */
+    return NULL;
+}
+#endif
+
+void rt_mem_zeroed_early(rt_mem_early *e, size_t bytes)
+{
+    e->bytes = bytes;
+    e->running = 0;
+#if defined(__linux__) && defined(MAP_POPULATE) && defined(MADV_POPULATE_WRITE)
+    if (bytes >= MAPPED_MIN) {
+        void *p = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+        e->p = p == MAP_FAILED ? NULL : p;
+        e->running = e->p && pthread_create(&e->thread, NULL, populate, e) == 0;
+        return;
+    }
+#endif
+    e->p = rt_mem_zeroed(bytes);
+}
+
+void rt_mem_settle(rt_mem_early *e)
+{
+    if (e->running)
+        pthread_join(e->thread, NULL);
+    e->running = 0;
+}
+
 void rt_mem_free(void *p, size_t bytes)
 {
     if (!p)

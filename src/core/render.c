@@ -449,13 +449,13 @@ static int stopped(const rt_renderer *r)
     return r->stop && *r->stop;
 }
 
-/* Pixel i of a block of rows from y0: its samples [s0, s1) added to
- * acc[ch i ..]; returns the ray segments traced. */
-static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t y0, uint32_t s0, uint32_t s1, long i,
-                                 int64_t *acc)
+/* Pixel i of a block of columns [x0, x0 + w) and rows from y0, row by
+ * row: its samples [s0, s1) added to acc[ch i ..]; returns the ray
+ * segments traced. */
+static inline uint64_t add_pixel(const rt_renderer *r, pixel_fn fn, uint32_t x0, uint32_t w, uint32_t y0,
+                                 uint32_t s0, uint32_t s1, long i, int64_t *acc)
 {
-    const uint32_t W = r->job.width;
-    uint32_t x = (uint32_t)(i % W), y = y0 + (uint32_t)(i / W);
+    uint32_t x = x0 + (uint32_t)(i % w), y = y0 + (uint32_t)(i / w);
     return fn(r, x, y, s0, s1, acc + i * r->lay.ch);
 }
 
@@ -477,7 +477,7 @@ uint64_t rt_render_rows(const rt_renderer *r, uint32_t y0, uint32_t y1, uint32_t
 #pragma omp parallel for schedule(guided, 4) reduction(+ : total) num_threads(nthreads) if (nthreads > 1)
     for (long i = 0; i < npix; i++)
         if (!stopped(r))
-            total += add_pixel(r, fn, y0, s0, s1, i, acc);
+            total += add_pixel(r, fn, 0, W, y0, s0, s1, i, acc);
     return total;
 }
 
@@ -529,7 +529,7 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
             continue;
         }
         if (got > 0) {
-            size_t need = (size_t)(u.y1 - u.y0) * st->r->job.width * st->r->lay.ch;
+            size_t need = (size_t)rt_unit_pixels(&u) * st->r->lay.ch;
             if (need > empty->cap) { /* the first units are the largest (schedule.h) */
                 rt_mem_free(empty->buf, empty->cap * sizeof *empty->buf);
                 empty->cap = 0;
@@ -540,7 +540,7 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
                 empty->cap = need;
             }
             empty->u = u;
-            empty->npix = empty->left = (long)(u.y1 - u.y0) * st->r->job.width;
+            empty->npix = empty->left = (long)rt_unit_pixels(&u);
             empty->next = 0;
             empty->segments = 0;
             empty->order = st->taken++;
@@ -585,7 +585,7 @@ static void stream_thread(stream *st)
         pthread_mutex_unlock(&st->mu);
         uint64_t segs = 0;
         for (long i = a; i < b && !stopped(r); i++) {
-            segs += add_pixel(r, st->fn, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
+            segs += add_pixel(r, st->fn, su->u.x0, su->u.x1 - su->u.x0, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
             /* the master polls after every pixel (the source decides how
              * often to really look), and so right after a unit is done:
              * its next pixel, or its idle poll in stream_claim */

@@ -104,7 +104,8 @@ uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t 
  * unit and returns 1, returns 0 when there are no more (it is not called
  * again then), or -1 when there is none yet (only with a poll, which brings
  * them). done receives each finished unit once: its sums, laid out as
- * rt_render_rows' acc (row u->y0 first) and valid only during the call, and
+ * rt_render_rows' acc but for columns [u->x0, u->x1) only (row u->y0
+ * first) and valid only during the call, and
  * the ray segments it took. Each is called by one thread at a time, from
  * any thread of the team; take may run while done does. poll, when not
  * NULL, is called by the team's master thread only (the thread that called

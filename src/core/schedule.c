@@ -29,8 +29,9 @@ typedef struct band {
 int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, const uint32_t *committed)
 {
     memset(s, 0, sizeof *s);
-    if (!job->height || !job->samples || !p->ranks)
+    if (!job->width || !job->height || !job->samples || !p->ranks)
         return RT_EINVAL;
+    s->width = job->width;
     s->height = job->height;
     s->samples = job->samples;
     s->passes = p->passes < 1 ? 1 : p->passes > job->samples ? job->samples : p->passes;
@@ -50,15 +51,22 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
     uint64_t want = (uint64_t)p->ranks * (p->units_per_rank ? p->units_per_rank : 8);
     uint32_t min_s = p->min_samples ? p->min_samples : 1;
 
-    /* Sample split inside a pass: when even one-row bands are too few. */
-    uint32_t splits = 1;
+    /* When even one-row bands are too few: column tiles, or (too narrow,
+     * or asked for) sample ranges inside a pass. */
+    uint32_t splits = 1, tiles = 1;
     uint32_t pass_len = job->samples / s->passes;
     if (todo > 0 && (uint64_t)todo < want) {
         uint64_t k = (want + todo - 1) / todo;
+        uint64_t cmax = job->width / (p->min_cols ? p->min_cols : 16);
         uint64_t kmax = pass_len / min_s;
+        if (cmax < 1)
+            cmax = 1;
         if (kmax < 1)
             kmax = 1;
-        splits = (uint32_t)(k < kmax ? k : kmax);
+        if (p->split == RT_SPLIT_COLUMNS && k <= cmax)
+            tiles = (uint32_t)k;
+        else
+            splits = (uint32_t)(k < kmax ? k : kmax);
     }
 
     /* One row partition, reused by every pass: runs of rows that have the
@@ -75,7 +83,7 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
         }
         uint32_t rows = max_band;
         if (!p->band) {
-            uint64_t g = (uint64_t)remaining / (2 * want / splits + 1);
+            uint64_t g = (uint64_t)remaining / (2 * want / ((uint64_t)splits * tiles) + 1);
             rows = g < 1 ? 1 : g > max_band ? max_band : (uint32_t)g;
         }
         uint32_t y1 = y;
@@ -94,11 +102,15 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
             uint32_t lo = bands[b].c > p0 ? bands[b].c : p0;
             if (lo >= p1)
                 continue;
-            for (uint32_t j = 0; j < splits && !st; j++) {
-                uint32_t s0 = lo + (uint32_t)((uint64_t)(p1 - lo) * j / splits);
-                uint32_t s1 = lo + (uint32_t)((uint64_t)(p1 - lo) * (j + 1) / splits);
-                if (s1 > s0)
-                    st = push(s, &capu, (rt_unit){0, bands[b].y0, bands[b].y1, s0, s1});
+            for (uint32_t t = 0; t < tiles && !st; t++) {
+                uint32_t x0 = (uint32_t)((uint64_t)job->width * t / tiles);
+                uint32_t x1 = (uint32_t)((uint64_t)job->width * (t + 1) / tiles);
+                for (uint32_t j = 0; j < splits && !st; j++) {
+                    uint32_t s0 = lo + (uint32_t)((uint64_t)(p1 - lo) * j / splits);
+                    uint32_t s1 = lo + (uint32_t)((uint64_t)(p1 - lo) * (j + 1) / splits);
+                    if (s1 > s0)
+                        st = push(s, &capu, (rt_unit){0, bands[b].y0, bands[b].y1, s0, s1, x0, x1});
+                }
             }
         }
     }

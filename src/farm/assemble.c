@@ -8,9 +8,10 @@
 #include "status.h"
 
 struct rt_pending {
-    rt_unit unit; /* the block's rows and samples */
+    rt_unit unit; /* the block's rows, columns and samples */
     int64_t *sums;
     uint32_t n_units;
+    uint32_t cols; /* a gathered block: columns in so far */
 };
 
 int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p, const uint32_t *committed,
@@ -37,6 +38,9 @@ void rt_assembly_free(rt_assembly *a)
     for (size_t i = 0; i < a->n_pending; i++)
         free(a->pending[i].sums);
     free(a->pending);
+    for (size_t i = 0; i < a->n_gather; i++)
+        free(a->gather[i].sums);
+    free(a->gather);
     free(a->stats);
     free(a->trace);
     rt_sched_free(&a->sched);
@@ -47,16 +51,18 @@ size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * 
 
 int rt_assembly_complete(const rt_assembly *a) { return a->units_in == a->sched.n_units; }
 
-void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, uint64_t segs, double start,
-                       double end)
+void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t width, uint32_t samples, uint64_t segs,
+                       double start, double end)
 {
     st->units++;
-    st->rows += (double)(u->y1 - u->y0) * (u->s1 - u->s0) / samples;
+    st->rows += (double)rt_unit_pixels(u) * (u->s1 - u->s0) / ((double)width * samples);
     st->segments += (double)segs;
     st->busy += end - start;
 }
 
 static size_t unit_len(const rt_assembly *a, const rt_unit *u) { return (size_t)(u->y1 - u->y0) * a->row; }
+
+static int whole(const rt_assembly *a, const rt_unit *u) { return u->x0 == 0 && u->x1 == a->sched.width; }
 
 static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t n_units)
 {
@@ -94,16 +100,59 @@ static void commit_pending(rt_assembly *a)
     }
 }
 
+/* Keeps sums (the caller's, now the assembly's) until u can commit. */
+static int keep_owned(rt_assembly *a, const rt_unit *u, int64_t *sums, uint32_t n_units)
+{
+    if (rt_array_reserve((void **)&a->pending, &a->cap_pending, a->n_pending + 1, sizeof *a->pending)) {
+        free(sums);
+        return RT_ENOMEM;
+    }
+    a->pending[a->n_pending++] = (struct rt_pending){*u, sums, n_units, 0};
+    return RT_OK;
+}
+
 static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t n_units)
 {
     size_t n = unit_len(a, u);
     int64_t *copy = malloc(n * sizeof *copy);
-    if (!copy || rt_array_reserve((void **)&a->pending, &a->cap_pending, a->n_pending + 1, sizeof *a->pending)) {
-        free(copy);
+    if (!copy)
         return RT_ENOMEM;
-    }
     memcpy(copy, sums, n * sizeof *copy);
-    a->pending[a->n_pending++] = (struct rt_pending){*u, copy, n_units};
+    return keep_owned(a, u, copy, n_units);
+}
+
+/* A tile: copied into the block of whole rows it belongs to (same rows and
+ * samples); once every column is in, the block goes on like a unit. */
+static int gather(rt_assembly *a, const rt_unit *t, const int64_t *sums, uint32_t n_units)
+{
+    size_t i = 0;
+    while (i < a->n_gather && !(a->gather[i].unit.y0 == t->y0 && a->gather[i].unit.y1 == t->y1 &&
+                                a->gather[i].unit.s0 == t->s0 && a->gather[i].unit.s1 == t->s1))
+        i++;
+    if (i == a->n_gather) {
+        int64_t *block = calloc(unit_len(a, t), sizeof *block);
+        if (!block || rt_array_reserve((void **)&a->gather, &a->cap_gather, a->n_gather + 1, sizeof *a->gather)) {
+            free(block);
+            return RT_ENOMEM;
+        }
+        a->gather[a->n_gather++] =
+            (struct rt_pending){{0, t->y0, t->y1, t->s0, t->s1, 0, a->sched.width}, block, 0, 0};
+    }
+    struct rt_pending *g = &a->gather[i];
+    const size_t ch = a->row / a->sched.width, w = (size_t)(t->x1 - t->x0) * ch;
+    for (uint32_t y = 0; y < t->y1 - t->y0; y++)
+        memcpy(g->sums + y * a->row + t->x0 * ch, sums + y * w, w * sizeof *sums);
+    g->n_units += n_units;
+    g->cols += t->x1 - t->x0;
+    if (g->cols < a->sched.width)
+        return RT_OK;
+    struct rt_pending full = *g;
+    *g = a->gather[--a->n_gather];
+    if (!rt_sched_can_commit(&a->sched, &full.unit))
+        return keep_owned(a, &full.unit, full.sums, full.n_units);
+    commit(a, &full.unit, full.sums, full.n_units);
+    free(full.sums);
+    commit_pending(a);
     return RT_OK;
 }
 
@@ -111,7 +160,7 @@ void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t se
 {
     a->segments += segs;
     if (rank >= 0 && rank < a->ranks)
-        rt_rank_stats_add(&a->stats[rank], u, a->sched.samples, segs, start, end);
+        rt_rank_stats_add(&a->stats[rank], u, a->sched.width, a->sched.samples, segs, start, end);
     /* Out of memory for the trace: it misses events, the render goes on. */
     if (a->tracing && rt_array_reserve((void **)&a->trace, &a->cap_trace, a->n_trace + 1, sizeof *a->trace) == RT_OK)
         a->trace[a->n_trace++] = (rt_trace_event){rank, *u, start, end};
@@ -119,6 +168,8 @@ void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t se
 
 int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, uint32_t n_units)
 {
+    if (!whole(a, block))
+        return gather(a, block, sums, n_units);
     if (!rt_sched_can_commit(&a->sched, block))
         return keep(a, block, sums, n_units);
     commit(a, block, sums, n_units);

@@ -19,6 +19,8 @@ typedef struct rt_assembly {
     int64_t *acc; /* the caller's framebuffer: height*row sums */
     struct rt_pending *pending; /* units that arrived before their predecessors */
     size_t n_pending, cap_pending;
+    struct rt_pending *gather; /* blocks of whole rows whose tiles are coming in */
+    size_t n_gather, cap_gather;
     uint64_t segments;
     uint32_t units_in; /* units whose sums are in the image */
     rt_rank_stats *stats; /* one per rank */
@@ -41,10 +43,12 @@ void rt_assembly_free(rt_assembly *a);
  * segments: into the rank's account and the trace. */
 void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t segs, double start, double end);
 
-/* The sums of a block of rows and one contiguous sample range (a unit, or
- * a piece of several units a worker held, held.h), holding n_units units:
- * added now if they can be committed, with every waiting block they
- * unblock, else a copy waits. RT_ENOMEM when no copy can be kept. */
+/* The sums of a block of rows, columns and one contiguous sample range (a
+ * unit, or a piece of several units a worker held, held.h), holding n_units
+ * units: added now if they can be committed, with every waiting block they
+ * unblock, else a copy waits. A tile (not the whole width) waits for the
+ * other tiles of its rows and samples, gathered into one block of whole
+ * rows. RT_ENOMEM when no copy can be kept. */
 int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, uint32_t n_units);
 
 /* Both, for one unit (rank 0's own units). */
@@ -57,9 +61,9 @@ int rt_assembly_complete(const rt_assembly *a);
 /* Sums in the framebuffer. */
 size_t rt_assembly_len(const rt_assembly *a);
 
-/* Adds one unit to a rank's account: units, rows (a row at all samples
- * counts 1), segments and busy time. */
-void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t samples, uint64_t segs, double start,
-                       double end);
+/* Adds one unit to a rank's account: units, rows (a whole row at all
+ * samples counts 1), segments and busy time. */
+void rt_rank_stats_add(rt_rank_stats *st, const rt_unit *u, uint32_t width, uint32_t samples, uint64_t segs,
+                       double start, double end);
 
 #endif

@@ -86,7 +86,7 @@ typedef struct rt_farm_job {
      * latest every flush_interval seconds, when they hold flush_bytes, when
      * rank 0 asks (progressive passes, checkpoints, the end) and on a
      * signal. A worker that rank 0 has not heard from for `lease` seconds
-     * is lost: its units go to the others (0: the defaults, 1 s, 64 MiB,
+     * is lost: its units go to the others (0: the defaults, 0.1 s, 64 MiB,
      * 5 s). */
     double flush_interval;
     size_t flush_bytes;

@@ -7,10 +7,11 @@
 #include "array.h"
 #include "status.h"
 
-void rt_held_init(rt_held *h, size_t row)
+void rt_held_init(rt_held *h, uint32_t width, size_t ch)
 {
     memset(h, 0, sizeof *h);
-    h->row = row;
+    h->width = width;
+    h->ch = ch;
 }
 
 void rt_held_free_pieces(rt_piece *p, size_t n)
@@ -28,14 +29,19 @@ void rt_held_free(rt_held *h)
     memset(h, 0, sizeof *h);
 }
 
-static int overlaps(const rt_piece *p, const rt_unit *u) { return p->y0 < u->y1 && u->y0 < p->y1; }
+static int overlaps(const rt_piece *p, const rt_unit *u)
+{
+    return p->y0 < u->y1 && u->y0 < p->y1 && p->x0 < u->x1 && u->x0 < p->x1;
+}
 
-/* The piece u extends: the same rows, samples up to u's first. */
+/* The piece u extends: the same whole rows, samples up to u's first. */
 static rt_piece *extended(const rt_held *h, const rt_unit *u)
 {
+    if (u->x0 != 0 || u->x1 != h->width)
+        return NULL;
     for (size_t i = 0; i < h->n; i++) {
         rt_piece *p = &h->pieces[i];
-        if (p->y0 == u->y0 && p->y1 == u->y1 && p->s1 == u->s0)
+        if (p->y0 == u->y0 && p->y1 == u->y1 && p->x0 == 0 && p->x1 == h->width && p->s1 == u->s0)
             return p;
     }
     return NULL;
@@ -61,7 +67,7 @@ static int add_id(rt_piece *p, uint32_t id)
 
 int rt_held_add(rt_held *h, const rt_unit *u, const int64_t *sums)
 {
-    const size_t n = (size_t)(u->y1 - u->y0) * h->row;
+    const size_t n = (size_t)rt_unit_pixels(u) * h->ch;
     rt_piece *p = extended(h, u);
     if (p) {
         if (add_id(p, u->id))
@@ -76,7 +82,7 @@ int rt_held_add(rt_held *h, const rt_unit *u, const int64_t *sums)
     if (rt_array_reserve((void **)&h->pieces, &h->cap, h->n + 1, sizeof *h->pieces))
         return RT_ENOMEM;
     p = &h->pieces[h->n];
-    *p = (rt_piece){u->y0, u->y1, u->s0, u->s1, malloc(n * sizeof *p->sums), NULL, 0, 0};
+    *p = (rt_piece){u->y0, u->y1, u->s0, u->s1, u->x0, u->x1, malloc(n * sizeof *p->sums), NULL, 0, 0};
     if (!p->sums || add_id(p, u->id)) {
         free(p->sums);
         return RT_ENOMEM;

@@ -43,7 +43,8 @@ int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks)
     /* groups: runs of units with the same rows whose samples follow on */
     for (uint32_t i = 0; i < L->n; i++) {
         const rt_unit *u = &s->units[i], *prev = i ? &s->units[i - 1] : NULL;
-        if (!prev || prev->y0 != u->y0 || prev->y1 != u->y1 || prev->s1 != u->s0)
+        if (!prev || prev->y0 != u->y0 || prev->y1 != u->y1 || prev->x0 != u->x0 || prev->x1 != u->x1 ||
+            prev->s1 != u->s0)
             L->gfirst[L->n_groups++] = i;
         L->glen[L->n_groups - 1]++;
     }

@@ -8,14 +8,15 @@
  *     REPORT   int64 x 4 per unit done: id, segments, start and end ns
  *              (worker clock since the common start); also its request
  *              for as many new units
- *     SUMS     int64, one or more pieces (held.h), each: y0, y1, s0, s1,
- *              n, n unit ids, then the sums of rows [y0, y1) over samples
- *              [s0, s1); each row at most once in a message
+ *     SUMS     int64, one or more pieces (held.h), each: y0, y1, x0, x1,
+ *              s0, s1, n, n unit ids, then the sums of rows [y0, y1) and
+ *              columns [x0, x1) over samples [s0, s1); each pixel at most
+ *              once in a message
  *     BEAT     empty: alive, nothing else to say (a lease's worth of quiet)
  *     STOPPED  empty: stopped, every sum sent
  *     BYE      double x 4: wait s, comm s, peak MB, most MB held
  *   rank 0 -> worker
- *     UNITS    uint32 x 5 per unit: id, y0, y1, s0, s1
+ *     UNITS    uint32 x 7 per unit: id, y0, y1, x0, x1, s0, s1
  *     IDLE     empty: no unit for you now: send what you hold
  *     FLUSH    empty: send what you hold (pass, checkpoint)
  *     STOP     empty: a signal stopped the job: send what you hold, stop
@@ -45,8 +46,8 @@ enum {
     RT_TAG_HOST,
 };
 #define RT_MSG_REPORT 4 /* int64 per reported unit */
-#define RT_MSG_UNIT 5   /* uint32 per unit sent */
-#define RT_MSG_PIECE 5  /* int64 of a piece's header before its ids */
+#define RT_MSG_UNIT 7   /* uint32 per unit sent */
+#define RT_MSG_PIECE 7  /* int64 of a piece's header before its ids */
 
 /* Sleeps 50 us, doubling with *idle up to 1 ms: quick replies while busy,
  * next to no CPU while idle. */

@@ -112,7 +112,7 @@ static void serve_peer(server *s, int r)
         if (rt_array_reserve((void **)&s->out, &s->cap_out, (n + 1) * RT_MSG_UNIT, sizeof *s->out))
             rt_farm_fail(s->f, 1, "out of memory on rank 0");
         uint32_t *m = s->out + n++ * RT_MSG_UNIT;
-        m[0] = u.id, m[1] = u.y0, m[2] = u.y1, m[3] = u.s0, m[4] = u.s1;
+        m[0] = u.id, m[1] = u.y0, m[2] = u.y1, m[3] = u.x0, m[4] = u.x1, m[5] = u.s0, m[6] = u.s1;
         p->credit--;
     }
     if (n) {
@@ -193,26 +193,29 @@ static void on_report(server *s, int r, const int64_t *m, int count)
     serve_peer(s, r);
 }
 
-/* One piece at m (count int64 left): rows [y0, y1), samples [s0, s1), its
- * units, their sums. Every unit must be one r holds, of those rows, and
- * together they must cover exactly [s0, s1). Returns the int64 it took. */
+/* One piece at m (count int64 left): rows [y0, y1), columns [x0, x1),
+ * samples [s0, s1), its units, their sums. Every unit must be one r holds,
+ * of those rows and columns, and together they must cover exactly [s0,
+ * s1). Returns the int64 it took. */
 static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
 {
     rt_assembly *a = &s->R->as;
     const rt_sched *sc = &a->sched;
-    int ok = count >= RT_MSG_PIECE && m[4] > 0 && m[4] <= sc->n_units && m[0] >= 0 && m[0] < m[1] &&
-             m[1] <= sc->height && m[2] >= 0 && m[2] < m[3] && m[3] <= sc->samples;
-    const size_t n_ids = ok ? (size_t)m[4] : 0;
-    const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[2] : 0,
-                           ok ? (uint32_t)m[3] : 0};
-    const size_t len = RT_MSG_PIECE + n_ids + (size_t)(block.y1 - block.y0) * a->row;
+    int ok = count >= RT_MSG_PIECE && m[6] > 0 && m[6] <= sc->n_units && m[0] >= 0 && m[0] < m[1] &&
+             m[1] <= sc->height && m[2] >= 0 && m[2] < m[3] && m[3] <= sc->width && m[4] >= 0 && m[4] < m[5] &&
+             m[5] <= sc->samples;
+    const size_t n_ids = ok ? (size_t)m[6] : 0;
+    const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[4] : 0,
+                           ok ? (uint32_t)m[5] : 0, ok ? (uint32_t)m[2] : 0, ok ? (uint32_t)m[3] : 0};
+    const size_t len = RT_MSG_PIECE + n_ids + (size_t)rt_unit_pixels(&block) * (a->row / sc->width);
     ok = ok && count >= len;
     uint64_t covered = 0;
     for (size_t k = 0; ok && k < n_ids; k++) {
         const rt_unit *u = m[RT_MSG_PIECE + k] >= 0 && m[RT_MSG_PIECE + k] <= UINT32_MAX
                                ? rt_sched_unit(sc, (uint32_t)m[RT_MSG_PIECE + k])
                                : NULL;
-        ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->s0 >= block.s0 && u->s1 <= block.s1;
+        ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->x0 == block.x0 && u->x1 == block.x1 &&
+             u->s0 >= block.s0 && u->s1 <= block.s1;
         covered += ok ? u->s1 - u->s0 : 0;
     }
     if (!ok || covered != block.s1 - block.s0)

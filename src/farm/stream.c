@@ -15,14 +15,14 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src)
         return rt_render_stream(job->renderer, job->threads, src);
     /* --empty-units: every unit adds nothing, without rendering; the zero
      * sums come from one buffer that grows to the largest unit. */
-    const size_t row = (size_t)job->renderer->job.width * job->renderer->lay.ch;
+    const size_t ch = job->renderer->lay.ch;
     int64_t *zero = NULL;
     size_t cap = 0;
     int st = RT_OK, got;
     rt_unit u;
     while (!RT_FARM_STOPPED() && (got = src->take(src->ctx, &u)) != 0) {
         if (got > 0) {
-            size_t n = (u.y1 - u.y0) * row;
+            size_t n = (size_t)rt_unit_pixels(&u) * ch;
             if (n > cap) {
                 free(zero);
                 cap = 0;

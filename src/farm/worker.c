@@ -92,7 +92,7 @@ static int seal(worker *w)
         return RT_ENOMEM;
     w->sealed[w->n_sealed++] = w->held;
     w->sealed_bytes += w->held.bytes;
-    rt_held_init(&w->held, w->held.row);
+    rt_held_init(&w->held, w->held.width, w->held.ch);
     return RT_OK;
 }
 
@@ -129,7 +129,7 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
     }
     atomic_store(&w->ready, 1);
     pthread_mutex_unlock(&w->mu);
-    rt_rank_stats_add(w->me, u, w->job->renderer->job.samples, segs, start, end);
+    rt_rank_stats_add(w->me, u, w->job->renderer->job.width, w->job->renderer->job.samples, segs, start, end);
 }
 
 static void send_or_fail(worker *w, const void *buf, int count, MPI_Datatype type, int tag)
@@ -159,16 +159,17 @@ static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
 {
     if (!n_pieces)
         return;
-    const size_t row = w->held.row;
+    const size_t ch = w->held.ch;
     size_t n = 0;
     for (size_t i = 0; i < n_pieces; i++)
-        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * row;
+        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
     if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
         rt_farm_fail(w->f, 1, "out of memory for the sums to send");
     int64_t *m = w->msg;
     for (size_t i = 0; i < n_pieces; i++) {
-        size_t sums = (size_t)(p[i].y1 - p[i].y0) * row;
-        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].s0, m[3] = p[i].s1, m[4] = (int64_t)p[i].n_ids;
+        size_t sums = (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
+        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].x0, m[3] = p[i].x1, m[4] = p[i].s0, m[5] = p[i].s1;
+        m[6] = (int64_t)p[i].n_ids;
         for (size_t k = 0; k < p[i].n_ids; k++)
             m[RT_MSG_PIECE + k] = p[i].ids[k];
         memcpy(m + RT_MSG_PIECE + p[i].n_ids, p[i].sums, sums * sizeof *p[i].sums);
@@ -213,8 +214,9 @@ static void receive_units(worker *w, const MPI_Status *status)
     pthread_mutex_lock(&w->mu);
     int bad = 0;
     for (int k = 0; k < count; k += RT_MSG_UNIT) {
-        rt_unit u = {m[k], m[k + 1], m[k + 2], m[k + 3], m[k + 4]};
-        bad |= u.y1 <= u.y0 || u.y1 > j->height || u.s1 <= u.s0 || u.s1 > j->samples || w->qlen == w->depth;
+        rt_unit u = {m[k], m[k + 1], m[k + 2], m[k + 5], m[k + 6], m[k + 3], m[k + 4]};
+        bad |= u.y1 <= u.y0 || u.y1 > j->height || u.x1 <= u.x0 || u.x1 > j->width || u.s1 <= u.s0 ||
+               u.s1 > j->samples || w->qlen == w->depth;
         if (!bad)
             w->queue[(w->qhead + w->qlen++) % w->depth] = u;
     }
@@ -331,12 +333,12 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     w.t_start = t_start;
     w.depth = job->prefetch > 0 ? job->prefetch : 2;
     w.stride = 1;
-    w.flush_interval = job->flush_interval > 0 ? job->flush_interval : 1.0;
+    w.flush_interval = job->flush_interval > 0 ? job->flush_interval : 0.1;
     w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)64 << 20;
     w.beat = (job->lease > 0 ? job->lease : 5.0) / 4;
     w.last_flush = w.last_sent = rt_now();
     atomic_init(&w.ready, 0);
-    rt_held_init(&w.held, (size_t)job->renderer->job.width * job->renderer->lay.ch);
+    rt_held_init(&w.held, job->renderer->job.width, job->renderer->lay.ch);
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)

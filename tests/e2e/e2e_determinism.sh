@@ -58,6 +58,25 @@ if [ -n "$MPIRUN" ]; then
     run_variant "mpirun -np 3 --oversubscribe --band 1" "$WORK/h.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --band 1 -o "$WORK/h.png"
     run_variant "mpirun -np 3 --passes 2 --band 5" "$WORK/q.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --passes 2 --band 5 -o "$WORK/q.png"
     run_variant "mpirun -np 4 --oversubscribe --band 64" "$WORK/i.png" mpirun_np 4 "$BIN" "${ARGS[@]}" -j 1 --band 64 -o "$WORK/i.png"
+    # Fewer rows than the ranks want: column tiles (the default) or sample
+    # ranges (--split samples), also in progressive passes; the same pixels
+    # as one process, and the trace shows which it was (a tile is narrower
+    # than the 192 columns, a sample range has fewer than the 8 samples).
+    FEW=(--width 192 --height 6 -s 8 -q)
+    "$BIN" "${FEW[@]}" -j 1 -o "$WORK/few.png" >/dev/null
+    few=$("$PNGINFO" "$WORK/few.png")
+    for v in "3:columns:" "3:samples:" "4:columns:--passes 2" "4:samples:--passes 2" "2:columns:--band 1"; do
+        IFS=: read -r np split extra <<<"$v"
+        # shellcheck disable=SC2086
+        mpirun_np "$np" "$BIN" "${FEW[@]}" -j 1 --split "$split" $extra --trace "$WORK/few.json" \
+            -o "$WORK/few-$np.png" >/dev/null 2>&1
+        check_eq "6 rows at -np $np, --split $split $extra: same pixels" "$("$PNGINFO" "$WORK/few-$np.png")" "$few"
+        names=$(grep -o '"rows [0-9]*-[0-9]* x [0-9]*-[0-9]* s [0-9]*-[0-9]*"' "$WORK/few.json")
+        tiles=$(grep -vc ' x 0-192 ' <<<"$names")
+        ranges=$(grep -vc ' s 0-8"\| s 0-4"\| s 4-8"' <<<"$names")
+        check_eq "6 rows at -np $np, --split $split $extra: units split by $split" \
+            "$([ "$tiles" -gt 0 ] && echo columns)$([ "$ranges" -gt 0 ] && echo samples)" "$split"
+    done
     # Every rank rendered something when there is enough work, and the
     # summary accounts for all rows.
     mpirun_np 2 "$BIN" --width 96 --height 64 -s 16 -j 1 --band 2 -o "$WORK/j.png" >"$WORK/j.out" 2>&1

@@ -25,7 +25,7 @@ static void unit_sums(const rt_unit *u, int64_t *out)
 {
     size_t i = 0;
     for (uint32_t y = u->y0; y < u->y1; y++)
-        for (uint32_t x = 0; x < W; x++)
+        for (uint32_t x = u->x0; x < u->x1; x++)
             for (uint32_t c = 0; c < 3; c++, i++) {
                 out[i] = 0;
                 for (uint32_t s = u->s0; s < u->s1; s++)
@@ -48,13 +48,14 @@ static int rows_consistent(const rt_assembly *a)
     return 1;
 }
 
-/* Plans a job of `passes` passes for `ranks` ranks, hands every unit out,
- * then returns them in an order drawn from seed (0: in order) from rank
- * (k % ranks); checks consistency after each. */
-static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band)
+/* Plans a job of `passes` passes for `ranks` ranks (column tiles at least
+ * min_cols wide), hands every unit out, then returns them in an order drawn
+ * from seed (0: in order) from rank (k % ranks); checks consistency after
+ * each. */
+static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band, uint32_t min_cols)
 {
     rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
-    rt_sched_params p = {band, 4, ranks, 8, 1, passes};
+    rt_sched_params p = {band, 4, ranks, 8, 1, passes, min_cols, RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
     CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, (int)ranks, 1), RT_OK);
@@ -83,6 +84,7 @@ static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band)
     CHECK(consistent);
     CHECK(rt_assembly_complete(&a));
     CHECK_EQ_INT(a.n_pending, 0);
+    CHECK_EQ_INT(a.n_gather, 0);
     CHECK_EQ_INT(a.sched.rows_done, H);
     CHECK_EQ_INT(a.passes_done, passes > 1 ? passes : 0);
     CHECK_EQ_INT(passes_seen > 0, passes > 1);
@@ -105,20 +107,35 @@ static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band)
 
 int main(void)
 {
-    run(1, 1, 0, 0);   /* in order */
-    run(1, 4, 7, 0);   /* shuffled bands */
-    run(1, 64, 11, 0); /* more ranks than rows: sample ranges, shuffled */
-    run(3, 5, 13, 2);  /* progressive passes, shuffled */
-    run(4, 64, 17, 1); /* passes and sample ranges */
+    run(1, 1, 0, 0, 0);   /* in order */
+    run(1, 4, 7, 0, 0);   /* shuffled bands */
+    run(1, 64, 11, 0, 0); /* more ranks than rows, too narrow for tiles: sample ranges, shuffled */
+    run(3, 5, 13, 2, 0);  /* progressive passes, shuffled */
+    run(4, 64, 17, 1, 0); /* passes and sample ranges */
+    run(1, 8, 19, 0, 1);  /* column tiles (3 a row), shuffled */
+    run(3, 8, 23, 0, 1);  /* passes of column tiles, shuffled */
+    {
+        /* the tiles' widths: 1, 2 and 2 columns of 5 */
+        rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+        rt_sched_params p = {0, 4, 8, 8, 1, 1, 1, RT_SPLIT_COLUMNS};
+        rt_sched sc;
+        CHECK_EQ_INT(rt_sched_init(&sc, &job, &p, NULL), RT_OK);
+        CHECK_EQ_INT(sc.n_units, 3 * H);
+        CHECK_EQ_INT(sc.units[0].x1 - sc.units[0].x0, 1);
+        CHECK_EQ_INT(sc.units[2].x0, 3);
+        CHECK_EQ_INT(sc.units[2].x1, W);
+        CHECK_EQ_INT(sc.units[2].s0 + sc.units[2].s1, S);
+        rt_sched_free(&sc);
+    }
 
     /* A unit out of commit order is kept, not lost: with nothing else in,
      * the second sample range of a row waits for the first. */
     rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
-    rt_sched_params p = {0, 4, 64, 8, 1, 1};
+    rt_sched_params p = {0, 4, 64, 8, 1, 1, 0, RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
     CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, 1, 0), RT_OK);
-    rt_unit first, later = {0, 0, 0, 0, 0};
+    rt_unit first, later = {0, 0, 0, 0, 0, 0, 0};
     CHECK(rt_sched_next(&a.sched, &first));
     for (rt_unit u; rt_sched_next(&a.sched, &u);)
         if (u.y0 == first.y0 && u.s0 == first.s1) {
@@ -136,6 +153,26 @@ int main(void)
     CHECK_EQ_INT(a.n_pending, 0);
     CHECK_EQ_INT(a.sched.committed[first.y0], later.s1);
     CHECK(rows_consistent(&a));
+    rt_assembly_free(&a);
+
+    /* A tile waits for the other tiles of its rows and samples, out of the
+     * image: only the last brings the row in, whole. */
+    memset(acc, 0, (size_t)W * H * 3 * sizeof *acc);
+    rt_sched_params pt = {0, 4, 8, 8, 1, 1, 1, RT_SPLIT_COLUMNS};
+    CHECK_EQ_INT(rt_assembly_init(&a, &job, &pt, NULL, acc, 1, 0), RT_OK);
+    rt_unit t[3];
+    for (int k = 0; k < 3; k++)
+        CHECK(rt_sched_next(&a.sched, &t[k]));
+    CHECK_EQ_INT(t[2].y0, t[0].y0);
+    const int order[3] = {2, 0, 1};
+    for (int k = 0; k < 3; k++) {
+        unit_sums(&t[order[k]], sums);
+        CHECK_EQ_INT(rt_assembly_add(&a, 0, &t[order[k]], sums, 0, 0, 0), RT_OK);
+        CHECK_EQ_INT(a.sched.committed[t[0].y0], k < 2 ? 0 : S);
+        CHECK_EQ_INT(a.n_gather, k < 2 ? 1 : 0);
+        CHECK_EQ_INT(a.units_in, k < 2 ? 0 : 3);
+        CHECK(rows_consistent(&a));
+    }
     rt_assembly_free(&a);
     free(acc);
     CHECK_DONE();

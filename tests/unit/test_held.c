@@ -1,6 +1,7 @@
 /* test_held.c - a worker's held sums: a band's sample ranges (and its next
  * pass) become one piece, covering one contiguous range; a unit that would
- * give a row two ranges does not fit; the sums add up exactly; memory is
+ * give a row two ranges does not fit; column tiles of one row are pieces of
+ * their own and never extended; the sums add up exactly; memory is
  * counted. */
 #include <stdlib.h>
 #include <string.h>
@@ -13,7 +14,7 @@ enum { W = 4 };
 
 static void fill(const rt_unit *u, int64_t *sums)
 {
-    size_t n = (size_t)(u->y1 - u->y0) * W * 3;
+    size_t n = (size_t)rt_unit_pixels(u) * 3;
     for (size_t i = 0; i < n; i++)
         sums[i] = (int64_t)(u->id * 1000 + i);
 }
@@ -21,10 +22,10 @@ static void fill(const rt_unit *u, int64_t *sums)
 int main(void)
 {
     rt_held h;
-    rt_held_init(&h, W * 3);
+    rt_held_init(&h, W, 3);
     int64_t s1[2 * W * 3], s2[2 * W * 3], s3[W * 3];
-    rt_unit a = {7, 10, 12, 0, 4}, b = {8, 10, 12, 4, 9}, c = {9, 12, 13, 0, 4};
-    rt_unit gap = {10, 10, 12, 12, 16}, part = {11, 11, 13, 9, 12};
+    rt_unit a = {7, 10, 12, 0, 4, 0, W}, b = {8, 10, 12, 4, 9, 0, W}, c = {9, 12, 13, 0, 4, 0, W};
+    rt_unit gap = {10, 10, 12, 12, 16, 0, W}, part = {11, 11, 13, 9, 12, 0, W};
     fill(&a, s1);
     fill(&b, s2);
     fill(&c, s3);
@@ -55,6 +56,30 @@ int main(void)
     /* After the take, the gap unit fits: a new flush, a new piece. */
     CHECK_EQ_INT(rt_held_fits(&h, &gap), 1);
     CHECK_EQ_INT(rt_held_add(&h, &gap, s1), RT_OK);
+    rt_held_free(&h);
+
+    /* Column tiles: the two tiles of row 3 are two pieces (no overlap);
+     * the next range of the left tile does not extend it (rank 0 gathers
+     * tiles by the schedule's ranges) and so does not fit; a whole-row
+     * unit of row 3 overlaps both. */
+    rt_held_init(&h, W, 3);
+    rt_unit l = {20, 3, 4, 0, 4, 0, 1}, r = {21, 3, 4, 0, 4, 1, W}, l2 = {22, 3, 4, 4, 8, 0, 1};
+    rt_unit row = {23, 3, 4, 4, 8, 0, W};
+    fill(&l, s1);
+    fill(&r, s2);
+    CHECK_EQ_INT(rt_held_add(&h, &l, s1), RT_OK);
+    CHECK_EQ_INT(rt_held_fits(&h, &r), 1);
+    CHECK_EQ_INT(rt_held_add(&h, &r, s2), RT_OK);
+    CHECK_EQ_INT(h.n, 2);
+    CHECK_EQ_INT(h.bytes, W * 3 * sizeof(int64_t));
+    CHECK_EQ_INT(rt_held_fits(&h, &l2), 0);
+    CHECK_EQ_INT(rt_held_fits(&h, &row), 0);
+    p = rt_held_take(&h, &n);
+    CHECK_EQ_INT(n, 2);
+    CHECK_EQ_INT(p[1].x0, 1);
+    CHECK_EQ_INT(p[1].x1, W);
+    CHECK(memcmp(p[1].sums, s2, (W - 1) * 3 * sizeof *s2) == 0);
+    rt_held_free_pieces(p, n);
     rt_held_free(&h);
     CHECK_DONE();
 }

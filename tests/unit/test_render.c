@@ -59,10 +59,12 @@ static void src_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t 
     source *S = ctx;
     if (__atomic_add_fetch(&S->inside, 1, __ATOMIC_SEQ_CST) > 1)
         S->overlapped = 1;
-    size_t n = (size_t)(u->y1 - u->y0) * S->width * 3;
-    int64_t *dst = S->acc + (size_t)u->y0 * S->width * 3;
-    for (size_t i = 0; i < n; i++)
-        dst[i] += sums[i];
+    const size_t w = (size_t)(u->x1 - u->x0) * 3; /* a tile's rows are w values */
+    for (uint32_t y = u->y0; y < u->y1; y++) {
+        int64_t *dst = S->acc + ((size_t)y * S->width + u->x0) * 3;
+        for (size_t i = 0; i < w; i++)
+            dst[i] += sums[(y - u->y0) * w + i];
+    }
     S->segments += segs;
     S->done_calls[u->id]++;
     __atomic_sub_fetch(&S->inside, 1, __ATOMIC_SEQ_CST);
@@ -98,14 +100,18 @@ int main(void)
     rt_render_rows(&r, 0, p.height, 1, 4, alt, 3);
     CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
 
-    /* A stream of units of every shape (rows, sample ranges, one row, the
-     * largest first, as the schedule hands them out): each unit done once,
+    /* A stream of units of every shape (rows, sample ranges, one row,
+     * column tiles, the largest first, as the schedule hands them out): each
+     * unit done once,
      * one done call at a time, the same image and segments for any thread
      * count (more threads than units in hand included). With trickle, the
      * units arrive only as the master thread polls (a worker's come by MPI)
      * and the other threads wait for them. */
-    const rt_unit units[] = {{0, 0, 9, 0, 6},   {1, 9, 15, 0, 2}, {2, 9, 15, 2, 6}, {3, 15, 16, 0, 6},
-                             {4, 16, 20, 0, 6}, {5, 20, 22, 0, 5}, {6, 22, 24, 0, 6}, {7, 20, 22, 5, 6}};
+    const uint32_t X = p.width;
+    const rt_unit units[] = {{0, 0, 9, 0, 6, 0, X},   {1, 9, 15, 0, 2, 0, X},  {2, 9, 15, 2, 6, 0, X},
+                             {3, 15, 16, 0, 6, 0, X}, {4, 16, 20, 0, 6, 0, X}, {5, 20, 22, 0, 5, 0, X},
+                             {6, 22, 24, 0, 6, 0, 7}, {7, 20, 22, 5, 6, 0, X}, {8, 22, 24, 0, 6, 7, 29},
+                             {9, 22, 24, 0, 6, 29, X}};
     const uint32_t n_units = sizeof units / sizeof units[0];
     for (int trickle = 0; trickle <= 1; trickle++)
         for (int threads = 1; threads <= 5; threads++) {

@@ -121,7 +121,7 @@ int main(void)
     rt_rank_stats ranks[2] = {{.units = 3, .rows = 1.5, .busy = 0.25}, {.units = 2, .rows = 0.5, .busy = 0.125}};
     rt_farm_result farm = {.msgs_in = 9, .bytes_in = (1ull << 53) + 1, .lost = 1};
     ranks[1].lost = 1;
-    rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75,
+    rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75, 0.125,
                         (1ull << 60) + 1, ranks,
                         {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm, NULL};
     CHECK_EQ_INT(rt_report_stats(stats, &s), 0);
@@ -137,6 +137,7 @@ int main(void)
         check_str(doc, "scene_hash", "0123456789abcdef");
         check_str(doc, "image_hash", "000000000000002a");
         CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(doc, "mpi")));
+        CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(doc, "setup_seconds")->valuedouble, 0.125, 0);
         char features[96];
         rt_report_features(features, sizeof features);
         const cJSON *f = cJSON_GetObjectItemCaseSensitive(doc, "features");
@@ -175,16 +176,20 @@ int main(void)
      * same provenance in otherData. */
     rt_trace_event ev[2] = {{.rank = 1, .start = 0.5, .end = 0.75}, {.rank = 0, .start = 1e-6, .end = 2e-6}};
     ev[0].unit.id = 7, ev[0].unit.y0 = 2, ev[0].unit.y1 = 4, ev[0].unit.s0 = 0, ev[0].unit.s1 = 3;
+    ev[0].unit.x0 = 16, ev[0].unit.x1 = 40;
     CHECK_EQ_INT(rt_report_trace(trace, ev, 2, 2, &s.origin), 0);
     if ((doc = load(trace))) {
         const cJSON *evs = cJSON_GetObjectItemCaseSensitive(doc, "traceEvents");
         CHECK_EQ_INT(cJSON_GetArraySize(evs), 4);
         const cJSON *u = cJSON_GetArrayItem(evs, 2);
-        check_str(u, "name", "rows 2-4 s 0-3");
+        check_str(u, "name", "rows 2-4 x 16-40 s 0-3");
         check_str(u, "ph", "X");
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(u, "ts")->valuedouble, 500000, 0);
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(u, "dur")->valuedouble, 250000, 0);
-        CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(u, "args"), "unit")->valueint, 7);
+        const cJSON *args = cJSON_GetObjectItemCaseSensitive(u, "args");
+        CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(args, "unit")->valueint, 7);
+        CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(args, "x0")->valueint, 16);
+        CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(args, "x1")->valueint, 40);
         const cJSON *other = cJSON_GetObjectItemCaseSensitive(doc, "otherData");
         check_argv(other, argc, argv);
         check_str(other, "version", RT_VERSION);

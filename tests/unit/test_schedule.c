@@ -1,7 +1,8 @@
-/* test_schedule.c - work units cover every (row, sample) exactly once, for
- * any band setting, rank count, number of passes and set of samples restored
- * from a checkpoint; committing in schedule order is always possible; guided
- * sizes shrink towards the end; few rows split into sample ranges. */
+/* test_schedule.c - work units cover every (pixel, sample) exactly once,
+ * for any band setting, rank count, number of passes, split and set of
+ * samples restored from a checkpoint; committing in schedule order is always
+ * possible; guided sizes shrink towards the end; few rows split into column
+ * tiles, or sample ranges when too narrow or asked. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,19 +14,26 @@
  * early ones as the farm does) and checks coverage. */
 static int covers_once(rt_sched *s, uint32_t H, uint32_t S, const uint32_t *start, uint32_t *max_rows)
 {
-    uint32_t *hits = calloc((size_t)H * S, sizeof *hits);
+    const uint32_t W = s->width;
+    uint32_t *hits = calloc((size_t)H * W * S, sizeof *hits);
     rt_unit *got = malloc((s->n_units + 1) * sizeof *got);
     uint32_t n = 0;
     int ok = 1;
     *max_rows = 0;
     rt_unit u;
     while (rt_sched_next(s, &u)) {
-        ok &= u.y0 < u.y1 && u.y1 <= H && u.s0 < u.s1 && u.s1 <= S;
+        ok &= u.y0 < u.y1 && u.y1 <= H && u.x0 < u.x1 && u.x1 <= W && u.s0 < u.s1 && u.s1 <= S;
         if (u.y1 - u.y0 > *max_rows)
             *max_rows = u.y1 - u.y0;
         for (uint32_t y = u.y0; y < u.y1 && ok; y++)
-            for (uint32_t k = u.s0; k < u.s1; k++)
-                hits[(size_t)y * S + k]++;
+            for (uint32_t x = u.x0; x < u.x1; x++)
+                for (uint32_t k = u.s0; k < u.s1; k++)
+                    hits[((size_t)y * W + x) * S + k]++;
+        /* the farm gathers a row's tiles into one block (assemble.c): the
+         * first tile stands for it, the others are in with it */
+        if (u.x0 > 0)
+            continue;
+        u.x1 = W;
         got[n++] = u;
     }
     /* arrival order: reverse within groups of 5 */
@@ -49,8 +57,9 @@ static int covers_once(rt_sched *s, uint32_t H, uint32_t S, const uint32_t *star
     }
     ok &= left == 0;
     for (uint32_t y = 0; y < H; y++)
-        for (uint32_t k = 0; k < S; k++)
-            ok &= hits[(size_t)y * S + k] == ((start && k < start[y]) ? 0u : 1u);
+        for (uint32_t x = 0; x < W; x++)
+            for (uint32_t k = 0; k < S; k++)
+                ok &= hits[((size_t)y * W + x) * S + k] == ((start && k < start[y]) ? 0u : 1u);
     ok &= s->rows_done == H && rt_sched_min_committed(s) == S;
     free(hits);
     free(got);
@@ -65,7 +74,9 @@ typedef struct plan {
 
 static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
 {
-    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0}, {band, 16, ranks, per_rank, 1, passes}};
+    /* 8 columns: narrower than a tile (16), so few rows split samples */
+    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0},
+              {band, 16, ranks, per_rank, 1, passes, 0, RT_SPLIT_COLUMNS}};
     return p;
 }
 
@@ -133,6 +144,36 @@ int main(void)
     CHECK(s.units[0].s1 - s.units[0].s0 < 500);
     CHECK(covers_once(&s, 8, 500, NULL, &max_rows));
     rt_sched_free(&s);
+
+    /* Wide enough: few rows are cut into column tiles of whole sample
+     * ranges, at least min_cols wide; the same with RT_SPLIT_SAMPLES gives
+     * sample ranges; too many tiles wanted for the width gives sample
+     * ranges too. */
+    uint32_t tiles_seen = 0;
+    for (size_t r = 0; r < sizeof ranks / sizeof *ranks; r++)
+        for (size_t q = 0; q < sizeof passes / sizeof *passes; q++)
+            for (int split = RT_SPLIT_COLUMNS; split <= RT_SPLIT_SAMPLES; split++) {
+                plan p = P(H, S, 0, ranks[r], 8, passes[q]);
+                p.job.width = 64;
+                p.p.min_cols = 4;
+                p.p.split = split;
+                CHECK_EQ_INT(rt_sched_init(&s, &p.job, &p.p, NULL), RT_OK);
+                int ok = covers_once(&s, H, S, NULL, &max_rows), tiles = 0, ranges = 0, narrow = 0;
+                for (uint32_t i = 0; i < s.n_units; i++) {
+                    tiles += s.units[i].x1 - s.units[i].x0 < 64;
+                    ranges += s.units[i].s1 - s.units[i].s0 < S / s.passes;
+                    narrow += s.units[i].x1 - s.units[i].x0 < 4;
+                }
+                const uint64_t k = ((uint64_t)ranks[r] * 8 + H - 1) / H;
+                CHECK(ok);
+                CHECK_EQ_INT(narrow, 0);
+                CHECK_EQ_INT(tiles > 0, split == RT_SPLIT_COLUMNS && k > 1 && k <= 16);
+                CHECK_EQ_INT(tiles > 0 && ranges > 0, 0);
+                CHECK_EQ_INT(ranges > 0, k > 1 && (split == RT_SPLIT_SAMPLES || k > 16) && S / s.passes > 1);
+                tiles_seen += tiles;
+                rt_sched_free(&s);
+            }
+    CHECK(tiles_seen > 0);
 
     /* A unit cannot be committed before its predecessor in the row. */
     plan two = P(2, 4, 2, 4, 2, 1);
