@@ -8,9 +8,10 @@
 #          its last sums came in (final_combine_seconds), units per second
 #          until the last unit was reported (the hand-out rate; the rest of
 #          the wall time is the workers' sums, one image of them, arriving)
-#   split  a job whose rows are split into sample ranges (1200x16 at 512
-#          spp, -np N, --empty-units --serve-only: 4 ranges a row): the bytes
-#          rank 0 receives, and its largest message. A counts
+#   split  a job with fewer rows than the ranks want (1200x16 at 512 spp,
+#          -np N, --empty-units --serve-only): cut into column tiles since
+#          d743106 (8 a row at -np 8), into sample ranges before (4 a row):
+#          the bytes rank 0 receives (one image of sums at best). A counts
 #          them (--stats rank0_bytes_in); a B from before that counter sent
 #          each unit's rows (24 bytes a pixel) plus 32 bytes, counted from
 #          its --trace.

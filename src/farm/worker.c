@@ -63,6 +63,9 @@ typedef struct worker {
     int calls, stride, idle; /* poll: calls since it last read the clock, and every how many it does */
     int64_t *msg;      /* a piece being sent */
     size_t cap_msg;
+#ifdef RT_TEST_HOOKS
+    long slow_ms; /* RT_TEST_SLOW_RANK: this rank sleeps so long after each unit */
+#endif
 } worker;
 
 static int worker_take(void *ctx, rt_unit *u)
@@ -101,6 +104,12 @@ static int seal(worker *w)
 static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
 {
     worker *w = ctx;
+#ifdef RT_TEST_HOOKS
+    if (w->slow_ms > 0) {
+        struct timespec ts = {w->slow_ms / 1000, (w->slow_ms % 1000) * 1000000L};
+        nanosleep(&ts, NULL);
+    }
+#endif
     double end = rt_now() - w->t_start, taken = 0;
     pthread_mutex_lock(&w->mu);
     for (int k = 0; k < w->depth; k++)
@@ -350,6 +359,10 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     const char *fault = getenv("RT_FAULT_INJECT_RANK");
     if (fault && atoi(fault) == f->rank)
         rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
+    /* ... or one rank slow: RT_TEST_SLOW_RANK=rank:ms after each unit */
+    const char *slow = getenv("RT_TEST_SLOW_RANK");
+    if (slow && atoi(slow) == f->rank && strchr(slow, ':'))
+        w.slow_ms = atol(strchr(slow, ':') + 1);
 #endif
     char host[sizeof me->host];
     rt_farm_hostname(host, sizeof host);

@@ -77,6 +77,17 @@ if [ -n "$MPIRUN" ]; then
         check_eq "6 rows at -np $np, --split $split $extra: units split by $split" \
             "$([ "$tiles" -gt 0 ] && echo columns)$([ "$ranges" -gt 0 ] && echo samples)" "$split"
     done
+    # A slow rank gets less work: rank 2 of 3 sleeping 40 ms after each
+    # unit (test build) renders fewer units than either other rank, and the
+    # image is the same.
+    SLOW=(--width 96 --height 64 -s 32 -q -j 1 --band 1)
+    "$BIN" "${SLOW[@]}" -o "$WORK/slow-ref.png" >/dev/null
+    RT_TEST_SLOW_RANK=2:40 mpirun_np 3 "$HOOKS_BIN" "${SLOW[@]}" -o "$WORK/slow.png" >"$WORK/slow.out" 2>&1
+    cmp -s "$WORK/slow-ref.png" "$WORK/slow.png" && pass "one rank slowed down: identical bytes" ||
+        fail "one rank slowed down: the image differs"
+    read -r u0 u1 u2 <<<"$(awk '/^rank [0-9]+:/ {printf "%s ", $3}' "$WORK/slow.out")"
+    if ((u2 * 2 < u1 && u2 * 2 < u0)); then pass "the slow rank took $u2 units, the others $u0 and $u1"
+    else fail "the slow rank took $u2 units, the others $u0 and $u1 (want under half)"; fi
     # Every rank rendered something when there is enough work, and the
     # summary accounts for all rows.
     mpirun_np 2 "$BIN" --width 96 --height 64 -s 16 -j 1 --band 2 -o "$WORK/j.png" >"$WORK/j.out" 2>&1
