@@ -285,6 +285,12 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
         add_num(e, "peak_rss_mb", x->maxrss_mb, &ok);
         add_num(e, "held_mb", x->held_mb, &ok);
         add(e, "lost", cJSON_CreateBool(x->lost), &ok);
+        if (x->lost) {
+            add_num(e, "lost_at_seconds", x->lost_at, &ok);
+            add_num(e, "silent_seconds", x->silent, &ok);
+            add_num(e, "units_redone", x->units_redone, &ok);
+            add_num(e, "redone_seconds", x->redone, &ok);
+        }
     }
     return write_doc(path, doc, ok, 1);
 }

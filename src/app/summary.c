@@ -240,9 +240,13 @@ static void print_summary(const rt_run *run, uint64_t hash, const rt_spp_stats *
     for (int i = 0; i < ranks && ranks > 1; i++) {
         const rt_rank_stats *r = &res->ranks[i];
         printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
-               "%.3f M segments/s%s%s%s\n",
+               "%.3f M segments/s%s%s",
                i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0,
-               r->host[0] ? " on " : "", r->host, r->lost ? " (lost: its units went to the others)" : "");
+               r->host[0] ? " on " : "", r->host);
+        if (r->lost)
+            printf(" (lost at %.1f s, silent for %.1f s: %u units and %.3f s of its rendering went to the others)",
+                   r->lost_at, r->silent, r->units_redone, r->redone);
+        printf("\n");
     }
     printf("image hash:    %016" PRIx64 "\n", hash);
     fflush(stdout);

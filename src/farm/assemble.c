@@ -26,7 +26,10 @@ int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p
     a->ranks = ranks;
     a->tracing = tracing;
     a->stats = calloc((size_t)(ranks > 0 ? ranks : 1), sizeof *a->stats);
-    if (!a->stats) {
+    a->unit_secs = calloc(a->sched.n_units ? a->sched.n_units : 1, sizeof *a->unit_secs);
+    if (!a->stats || !a->unit_secs) {
+        free(a->stats);
+        free(a->unit_secs);
         rt_sched_free(&a->sched);
         return RT_ENOMEM;
     }
@@ -42,6 +45,7 @@ void rt_assembly_free(rt_assembly *a)
         free(a->gather[i].sums);
     free(a->gather);
     free(a->stats);
+    free(a->unit_secs);
     free(a->trace);
     rt_sched_free(&a->sched);
     memset(a, 0, sizeof *a);
@@ -159,6 +163,8 @@ static int gather(rt_assembly *a, const rt_unit *t, const int64_t *sums, uint32_
 void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t segs, double start, double end)
 {
     a->segments += segs;
+    if (u->id < a->sched.n_units)
+        a->unit_secs[u->id] = end - start;
     if (rank >= 0 && rank < a->ranks)
         rt_rank_stats_add(&a->stats[rank], u, a->sched.width, a->sched.samples, segs, start, end);
     /* Out of memory for the trace: it misses events, the render goes on. */

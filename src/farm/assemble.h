@@ -25,6 +25,7 @@ typedef struct rt_assembly {
     uint32_t units_in; /* units whose sums are in the image */
     rt_rank_stats *stats; /* one per rank */
     int ranks;
+    double *unit_secs;     /* per unit: how long its rendering took, once reported */
     rt_trace_event *trace; /* one per unit when tracing */
     size_t n_trace, cap_trace;
     int tracing;

@@ -45,6 +45,10 @@ typedef struct rt_rank_stats {
     double maxrss_mb; /* peak resident memory */
     double held_mb;   /* most sums held at once, not yet sent to rank 0 */
     int lost;         /* the rank died or stopped answering; its units went to others */
+    double lost_at;   /* when rank 0 found it lost (seconds into the render) */
+    double silent;    /* how long rank 0 had not heard from it then */
+    double redone;    /* seconds of its rendering lost: units it reported done whose sums never came */
+    uint32_t units_redone; /* its units handed to the others (done or not) */
     char host[64];    /* the node it ran on (gethostname, cut to 63 bytes) */
 } rt_rank_stats;
 

@@ -145,9 +145,22 @@ static void lose(server *s, int r, const char *why)
         return;
     s->peers[r].alive = 0;
     s->res->lost++;
+    const double now = rt_now();
     pthread_mutex_lock(&s->R->mu);
+    /* what the loss costs: the rendering of units it reported done but
+     * whose sums it still held */
+    const rt_ledger *L = &s->R->led;
+    double redone = 0;
+    for (uint32_t i = 0; i < L->n; i++)
+        if (L->owner[i] == r && L->state[i] == RT_UNIT_DONE)
+            redone += s->R->as.unit_secs[i];
     uint32_t back = rt_ledger_lose(&s->R->led, r);
-    s->R->as.stats[r].lost = 1;
+    rt_rank_stats *st = &s->R->as.stats[r];
+    st->lost = 1;
+    st->lost_at = now - s->R->t0;
+    st->silent = now - s->peers[r].heard;
+    st->redone = redone;
+    st->units_redone = back;
     int complete = rt_assembly_complete(&s->R->as);
     pthread_mutex_unlock(&s->R->mu);
     fprintf(stderr, "rt-mpi: warning: rank %d lost (%s): %u unit%s go%s to the other ranks\n", r, why, back,

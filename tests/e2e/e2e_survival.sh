@@ -39,6 +39,15 @@ lose_rank() { # label signal rank
         fail "$label: no loss reported: $(grep -m2 rt-mpi "$WORK/$label.err")"
     grep -q "^lost ranks: *1" "$WORK/$label.out" && pass "$label: the summary counts the lost rank" ||
         fail "$label: summary: $(grep -m1 lost "$WORK/$label.out")"
+    # the summary says when and what the loss cost: silent for at least
+    # the 2 s lease, some units handed on
+    local cost
+    cost=$(sed -n "s/^rank $rank: .*(lost at \([0-9.]*\) s, silent for \([0-9.]*\) s: \([0-9]*\) units.*/\1 \2 \3/p" \
+        "$WORK/$label.out")
+    read -r at silent units <<<"$cost"
+    [[ -n $cost ]] && awk -v s="$silent" -v a="$at" -v u="$units" 'BEGIN {exit !(s >= 2 && a >= s && u > 0)}' &&
+        pass "$label: rank $rank lost at $at s, silent for $silent s, $units units went to the others" ||
+        fail "$label: the summary's cost of the loss: '$(grep "^rank $rank:" "$WORK/$label.out")'"
     echo "  $label: ${took} s wall with the loss against ${whole} s without: $(echo "$took - $whole" | bc) s lost (lease 2 s)"
     [ $status -ne 0 ] || { [ ! -e "$out.ckpt" ] && pass "$label: checkpoint removed after success" ||
         fail "$label: checkpoint left"; }

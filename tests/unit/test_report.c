@@ -120,7 +120,7 @@ int main(void)
     job.width = 4, job.height = 2, job.samples = 3, job.max_depth = 5, job.seed = UINT64_MAX;
     rt_rank_stats ranks[2] = {{.units = 3, .rows = 1.5, .busy = 0.25}, {.units = 2, .rows = 0.5, .busy = 0.125}};
     rt_farm_result farm = {.msgs_in = 9, .bytes_in = (1ull << 53) + 1, .lost = 1};
-    ranks[1].lost = 1;
+    ranks[1].lost = 1, ranks[1].lost_at = 2.5, ranks[1].silent = 2.25, ranks[1].units_redone = 4, ranks[1].redone = 0.75;
     rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75, 0.125,
                         (1ull << 60) + 1, ranks,
                         {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm, NULL};
@@ -152,6 +152,12 @@ int main(void)
         CHECK_EQ_INT(cJSON_GetArraySize(pr), 2);
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "busy_seconds")->valuedouble, 0.125, 0);
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "idle_seconds")->valuedouble, 0.375, 0);
+        /* what the lost rank cost; nothing of the kind for a rank not lost */
+        CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "lost_at_seconds")->valuedouble, 2.5, 0);
+        CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "silent_seconds")->valuedouble, 2.25, 0);
+        CHECK_EQ_INT(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "units_redone")->valueint, 4);
+        CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 1), "redone_seconds")->valuedouble, 0.75, 0);
+        CHECK(cJSON_GetObjectItemCaseSensitive(cJSON_GetArrayItem(pr, 0), "lost_at_seconds") == NULL);
         cJSON_Delete(doc);
     }
     /* Whole numbers beyond 2^53 exactly as they are, not through a double. */
