@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "job.h"
+#include "schedule.h"
 
 typedef enum rt_cli_action {
     RT_CLI_RUN = 0,

@@ -51,6 +51,20 @@ int main(void)
     CHECK(!strcmp(opt.scene, "final"));
     CHECK_EQ_INT(opt.accel, RT_ACCEL_BVH);
 
+    /* The farm's knobs: how few rows are split, a flush interval in
+     * fractions of a second (0: only when asked). */
+    CHECK_EQ_INT(opt.split, RT_SPLIT_COLUMNS);
+    CHECK_NEAR(opt.flush_interval, 0.1, 0);
+    CHECK_EQ_INT(parse("--split", "samples", "--flush-interval", "0.25", NULL), RT_CLI_RUN);
+    CHECK_EQ_INT(opt.split, RT_SPLIT_SAMPLES);
+    CHECK_NEAR(opt.flush_interval, 0.25, 0);
+    CHECK_EQ_INT(parse("--flush-interval=0", NULL), RT_CLI_RUN);
+    CHECK_NEAR(opt.flush_interval, 0, 0);
+    CHECK_EQ_INT(parse("--split", "rows", NULL), RT_CLI_ERROR);
+    check_err("--split: 'rows' is not columns or samples");
+    CHECK_EQ_INT(parse("--flush-interval", "-1", NULL), RT_CLI_ERROR);
+    check_err("--flush-interval: '-1' is not a number of seconds");
+
     /* A value after the option, after '=', or attached to a short one. */
     CHECK_EQ_INT(parse("--width", "200", "-s", "8", "-j4", "--seed=7", NULL), RT_CLI_RUN);
     CHECK_EQ_INT(opt.job.width, 200);
