@@ -13,7 +13,8 @@ the threads of the traced run, per pixel-sample (thread-seconds). Averaged
 per row, this is a cost profile over the image height; a simulated job of
 another size maps its rows onto that profile (by relative height, integrating
 the piecewise-constant profile) and scales by its width and sample count. A
-unit of rows [y0,y1) x samples [s0,s1) on a rank with T threads takes
+unit of rows [y0,y1) x columns [x0,x1) x samples [s0,s1) (a column tile
+costs its share of the row) on a rank with T threads takes
 cost/T seconds (perfect OpenMP scaling inside a rank: the pixels of a unit
 are spread over the threads in chunks of 8), times --slowdown (ranks that
 share cores, as in an oversubscribed test run).
@@ -22,20 +23,28 @@ The farm as built (--farm v2, the default; src/farm/ since df446ae):
   - a worker's HELLO asks for --prefetch units; each unit done is a 32-byte
     REPORT, also its request for the next; rank 0 answers with UNITS;
   - a worker keeps the sums (held.c): a unit extends a held piece of the
-    same rows whose samples end where it starts; one that shares rows
-    without extending seals the store (sent at once, a message of its own);
-  - it sends what it holds, one SUMS message per store (40 + 8 ids + rows x
-    width x 24 bytes a piece), when rank 0 says IDLE (nothing left for it)
+    same rows and columns, covering the whole width, whose samples end where
+    it starts (a column tile is never extended); one whose rows and columns
+    overlap a piece without extending it seals the store (sent at once, a
+    message of its own);
+  - it sends what it holds, one SUMS message per store (56 + 8 ids + rows x
+    columns x 24 bytes a piece; 40 + ... before column tiles, --piece-header),
+    when rank 0 says IDLE (nothing left for it)
     or FLUSH (a progressive pass done), every --flush-interval, at
     --flush-mb; an idle worker beats every lease/4;
   - rank 0 handles one message at a time: --service-msg + bytes x
     (--service-byte + 1/bandwidth); a worker packs a flush at --pack-byte;
   - the makespan ends when rank 0 holds every sum; the final combination
     is the time from the last report to the last sums.
-  Policy "affinity" (the farm as built since its ledger hands out by
-  affinity; "split" is the farm before it): a rank continues the band
-  whose sample ranges it was last given. --reports-first (not built):
-  rank 0 reads reports before sums.
+  Policy "tiles" (the farm as built: too few rows are cut into column
+  tiles, so every pixel's sums reach rank 0 once; the ledger hands out by
+  affinity); "affinity" (the same ledger with rows cut into sample ranges,
+  the farm before tiles, rt-mpi --split samples): a rank continues the band
+  whose sample ranges it was last given; "split" is the farm before
+  affinity. --reports-first (not built): rank 0 reads reports before sums.
+  The defaults are the farm as built (d743106): 16 units per rank
+  (--units-per-rank), a 0.1 s flush interval (--flush-interval), policy
+  tiles for --compare; the farm before it had 8, 1 s and sample ranges.
 
 The farm before df446ae (--farm v1; docs/notes/scaling-v1.md), every
 number an option:
@@ -58,9 +67,16 @@ Policies:
   static  each rank renders one contiguous block of rows (H*r/N ..), then
           sends it to rank 0, which receives the blocks after its own;
   bands   the farm with the schedule of src/schedule.c but no sample split
-          (guided row bands, 16 rows at most, towards ranks*8 units);
-  split   the farm exactly as src/schedule.c does it: when rows are fewer
-          than ranks*8, bands are split into sample ranges.
+          (guided row bands, 16 rows at most, towards ranks x
+          --units-per-rank units: 16 as built, 8 for v1);
+  split   the farm exactly as src/schedule.c did before column tiles: when
+          rows are fewer than ranks x units per rank, bands are split into
+          sample ranges
+          (v2: handed out in schedule order, the farm before affinity);
+  affinity  v2: as split, handed out by affinity (ledger.c);
+  tiles   v2, the farm as built: as affinity, but rows are cut into column
+          tiles of at least --min-cols columns (sample ranges only when the
+          image is too narrow).
 
 Parallel efficiency = total cost / (N * T * makespan), the makespan ending
 when rank 0 holds every result. Everything is deterministic: the same input
@@ -77,10 +93,11 @@ HDR_BYTES = 4 * 8  # result header: unit, segments, start, end (int64)
 
 # rank 0's cost per message and per byte received in the farm as built (v2),
 # fitted by validate_scaling.sh on the project's 2-core box (serve CPU
-# seconds of --empty-units --serve-only runs); see docs/SCALING.md
-V2_MSG = 1.7e-6
-V2_BYTE = 0.37e-9
-V2_PACK = 0.9e-9
+# seconds of --empty-units --serve-only runs; the run of docs/SCALING.md,
+# column tiles, 511d5d2); a worker's cost per byte to pack a flush
+V2_MSG = 1.96e-6
+V2_BYTE = 0.31e-9
+V2_PACK = 0.23e-9
 
 NETWORKS = {
     # latency (s), bandwidth (bytes/s)
@@ -102,9 +119,12 @@ def load_trace(path):
         if e.get("ph") != "X":
             continue
         a = e.get("args", {})
+        # x0, x1: the unit's columns (traces since column tiles; before
+        # them every unit was the whole width: x1 None)
         out.append({"rank": int(e["pid"]), "ts": float(e["ts"]) * 1e-6, "dur": float(e["dur"]) * 1e-6,
                     "unit": int(a.get("unit", len(out))), "y0": int(a["y0"]), "y1": int(a["y1"]),
-                    "s0": int(a["s0"]), "s1": int(a["s1"])})
+                    "s0": int(a["s0"]), "s1": int(a["s1"]), "x0": int(a.get("x0", 0)),
+                    "x1": int(a["x1"]) if "x1" in a else None})
     if not out:
         raise SystemExit("simulate_scaling: %s has no unit events (ph X)" % path)
     return out
@@ -117,9 +137,10 @@ def cost_profile(events, width, threads, height=None):
     den = [0.0] * H
     for e in events:
         rs = (e["y1"] - e["y0"]) * (e["s1"] - e["s0"])
-        if rs <= 0:
+        cols = width if e.get("x1") is None else e["x1"] - e.get("x0", 0)
+        if rs <= 0 or cols <= 0:
             continue
-        d = e["dur"] * threads / (rs * width)
+        d = e["dur"] * threads / (rs * cols)
         w = e["s1"] - e["s0"]
         for y in range(e["y0"], min(e["y1"], H)):
             num[y] += d * w
@@ -153,52 +174,80 @@ class Job:
             self.R[y + 1] = self.R[y] + row
         self.total = self.R[height] * samples
 
+    def cols(self, u):
+        """Columns of a unit (y0, y1, s0, s1[, x0, x1]): the whole width
+        unless it is a column tile."""
+        if len(u) > 4 and u[5] is not None:
+            return u[5] - u[4]
+        return self.W
+
     def cost(self, u):
-        y0, y1, s0, s1 = u
-        return (self.R[y1] - self.R[y0]) * (s1 - s0)
+        """Thread-seconds of a unit; the profile is per row, so a tile costs
+        its share of the row's columns."""
+        c = (self.R[u[1]] - self.R[u[0]]) * (u[3] - u[2])
+        w = self.cols(u)
+        return c if w == self.W else c * w / self.W
 
     def payload(self, u):
-        return (u[1] - u[0]) * self.W * 3 * 8 + HDR_BYTES
+        return (u[1] - u[0]) * self.cols(u) * 3 * 8 + HDR_BYTES
 
 
 # ---- the schedule of src/schedule.c ----------------------------------------
 
-def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samples=1, split=True, passes=1):
+def make_units(height, samples, ranks, band=0, max_band=16, per_rank=16, min_samples=1, split=True, passes=1,
+               width=None, min_cols=16, split_mode="columns"):
     """The units rt_sched_init builds (nothing committed yet), in hand-out
-    order: pass by pass, in each pass guided row bands in row order, each
-    band split into `splits` sample ranges when rows are fewer than
-    ranks * per_rank (split=False: never, the "bands" policy)."""
+    order, as tuples (y0, y1, s0, s1, x0, x1): rows [y0, y1) x samples
+    [s0, s1) x columns [x0, x1). per_rank: the units wanted per rank and
+    pass (src/app/setup.c gives the schedule 16 since column tiles; 8
+    before, and for --farm v1). Pass by pass, in each pass guided row bands
+    in row order. When rows are fewer than ranks * per_rank (k = ceil(want
+    / rows) pieces a row wanted), each band is cut into k column tiles
+    (split_mode "columns", the default since column tiles) if the width
+    allows tiles of min_cols columns (k <= width // min_cols), else (or
+    with split_mode "samples", the farm before tiles) into `splits` sample
+    ranges; a pass never has both. split=False: neither (the "bands"
+    policy). width None: not known, never tiles, x0 = 0 and x1 = None (the
+    whole width)."""
+    if split_mode not in ("columns", "samples"):
+        raise ValueError("split_mode %r (columns, samples)" % (split_mode,))
     passes = max(1, min(passes, samples))
     todo = height
     mb = band if band else (max_band if max_band else 16)
-    want = ranks * per_rank
-    splits = 1
+    want = ranks * (per_rank if per_rank else 8)
+    splits = tiles = 1
     pass_len = samples // passes
     if split and 0 < todo < want:
         k = (want + todo - 1) // todo
-        kmax = max(pass_len // min_samples, 1)
-        splits = min(k, kmax)
+        cmax = max(1, (width or 0) // (min_cols if min_cols else 16))
+        if split_mode == "columns" and width and k <= cmax:
+            tiles = k
+        else:
+            kmax = max(pass_len // (min_samples if min_samples else 1), 1)
+            splits = min(k, kmax)
     bands = []
     y, remaining = 0, todo
     while y < height:
         rows = mb
         if not band:
-            g = remaining // (2 * want // splits + 1)
+            g = remaining // (2 * want // (splits * tiles) + 1)
             rows = 1 if g < 1 else min(g, mb)
         y1 = min(y + rows, height)
         bands.append((y, y1))
         remaining -= y1 - y
         y = y1
+    cols = [(width * t // tiles, width * (t + 1) // tiles) if width else (0, None) for t in range(tiles)]
     units = []
     for k in range(passes):
         p0 = samples * k // passes
         p1 = samples * (k + 1) // passes
         for y0, y1 in bands:
-            for j in range(splits):
-                s0 = p0 + (p1 - p0) * j // splits
-                s1 = p0 + (p1 - p0) * (j + 1) // splits
-                if s1 > s0:
-                    units.append((y0, y1, s0, s1))
+            for x0, x1 in cols:
+                for j in range(splits):
+                    s0 = p0 + (p1 - p0) * j // splits
+                    s1 = p0 + (p1 - p0) * (j + 1) // splits
+                    if s1 > s0:
+                        units.append((y0, y1, s0, s1, x0, x1))
     return units
 
 
@@ -207,8 +256,9 @@ def make_units(height, samples, ranks, band=0, max_band=16, per_rank=8, min_samp
 class Model:
     def __init__(self, threads=1, latency=2e-6, bandwidth=12.5e9, service_msg=20e-6, service_byte=0.0,
                  prefetch=2, nap_base=50e-6, nap_cap=1e-3, nap_slack=80e-6, slowdown=1.0, serve_only=False,
-                 band=0, probe_miss=1, passes=1, worker_overhead=0.0, farm="v2", per_rank=8,
-                 flush_interval=1.0, flush_bytes=64 << 20, lease=5.0, pack_byte=0.0, reports_first=False):
+                 band=0, probe_miss=1, passes=1, worker_overhead=0.0, farm="v2", per_rank=16,
+                 flush_interval=0.1, flush_bytes=64 << 20, lease=5.0, pack_byte=0.0, reports_first=False,
+                 min_cols=16, piece_hdr=None):
         self.T = threads
         self.L = latency
         self.B = bandwidth
@@ -224,11 +274,16 @@ class Model:
         self.worker_overhead = worker_overhead
         self.farm = farm  # "v1": results unit by unit (before df446ae); "v2": sums held, sent per flush
         self.per_rank = per_rank
-        self.flush_interval = flush_interval
+        # rt-mpi --flush-interval 0: only when rank 0 asks (IDLE, FLUSH)
+        self.flush_interval = flush_interval if flush_interval > 0 else math.inf
         self.flush_bytes = flush_bytes
         self.lease = lease
         self.pack_byte = pack_byte
         self.reports_first = reports_first  # not built: rank 0 takes reports before sums
+        self.min_cols = min_cols  # narrowest column tile (schedule.h min_cols)
+        # bytes of a piece's header in a SUMS message before its unit ids:
+        # 7 int64 since column tiles (y0, y1, x0, x1, s0, s1, n), 5 before
+        self.piece_hdr = PIECE_HDR if piece_hdr is None else piece_hdr
 
     def result_service(self, nbytes):
         return self.a + nbytes * self.b + (nbytes / self.B if self.B != math.inf else 0.0)
@@ -295,7 +350,9 @@ def simulate_static(job, N, m):
 def simulate_farm(job, N, m, split=True):
     """The rt-mpi farm: discrete-event simulation of rank 0's server, its
     render thread and N-1 workers."""
-    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes)
+    # the farm before df446ae: 8 units per rank, sample ranges
+    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes, width=job.W, per_rank=8,
+                       split_mode="samples")
     cost = [job.cost(u) / m.T * m.slowdown for u in units]
     nbytes = [job.payload(u) for u in units]
     n = len(units)
@@ -321,7 +378,7 @@ def simulate_farm(job, N, m, split=True):
         u = units[i]
         per_units[rank] += 1
         per_busy[rank] += cost[i]
-        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S
+        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S * job.cols(u) / job.W
         done_units += 1
         makespan = max(makespan, t_end)
 
@@ -435,12 +492,67 @@ def simulate_farm(job, N, m, split=True):
 
 # ---- the farm as rewritten (v2): sums held by the workers ------------------
 
-PIECE_HDR = 5 * 8  # a piece in a SUMS message: y0, y1, s0, s1, n (int64), then n unit ids
+PIECE_HDR = 7 * 8  # a piece in a SUMS message: y0, y1, x0, x1, s0, s1, n (int64), then n unit ids
+PIECE_HDR_SAMPLES = 5 * 8  # before column tiles: y0, y1, s0, s1, n
 REPORT_BYTES = 4 * 8  # a REPORT: id, segments, start, end (int64) per unit
+UNIT_WORDS = 7  # a unit in a UNITS message: 7 uint32 since column tiles (5 before); rank 0's sends are not charged
 
 
-def piece_bytes(width, y0, y1, n_ids):
-    return PIECE_HDR + 8 * n_ids + (y1 - y0) * width * 3 * 8
+def piece_bytes(cols, y0, y1, n_ids, hdr=PIECE_HDR):
+    """A piece of rows [y0, y1) x `cols` columns with n_ids unit ids."""
+    return hdr + 8 * n_ids + (y1 - y0) * cols * 3 * 8
+
+
+class Held:
+    """A worker's held sums (held.c), bookkeeping only: a store of pieces
+    [y0, y1, x0, x1, s0, s1, n_ids]. A unit extends a piece of the same rows
+    and columns that covers the whole width and whose samples end where the
+    unit's start (a column tile never is extended); a unit whose rows and
+    columns both overlap a piece it does not extend does not fit: the store
+    is sealed (sent as a message of its own) and a new one begun."""
+
+    def __init__(self, width):
+        self.W = width
+        self.store = []    # pieces of the current store
+        self.sealed = []   # full stores waiting to be sent
+        self.bytes = 0     # sums in the current store (held.c's count)
+
+    def extended(self, u):
+        for p in self.store:
+            if (p[0] == u[0] and p[1] == u[1] and p[2] == 0 and p[3] == self.W and p[2] == u[4]
+                    and p[3] == u[5] and p[5] == u[2]):
+                return p
+        return None
+
+    def fits(self, u):
+        if self.extended(u) is not None:
+            return True
+        return not any(p[0] < u[1] and u[0] < p[1] and p[2] < u[5] and u[4] < p[3] for p in self.store)
+
+    def add(self, u):
+        """Adds unit u = (y0, y1, s0, s1, x0, x1); returns "extended", "new"
+        or "sealed" (the store was sealed first)."""
+        p = self.extended(u)
+        if p is not None:
+            p[5] = u[3]
+            p[6] += 1
+            return "extended"
+        how = "new"
+        if not self.fits(u):
+            self.sealed.append(self.store)
+            self.store, self.bytes, how = [], 0, "sealed"
+        self.store.append([u[0], u[1], u[4], u[5], u[2], u[3], 1])
+        self.bytes += (u[1] - u[0]) * (u[5] - u[4]) * 24
+        return how
+
+    def held_bytes(self):
+        return self.bytes + sum((p[1] - p[0]) * (p[3] - p[2]) * 24 for st in self.sealed for p in st)
+
+    def take(self):
+        """The stores to send (sealed ones first), each a list of pieces."""
+        stores = self.sealed + ([self.store] if self.store else [])
+        self.sealed, self.store, self.bytes = [], [], 0
+        return stores
 
 
 class Picker:
@@ -455,10 +567,13 @@ class Picker:
         self.n = len(units)
         self.nxt = 0
         if mode == "affinity":
-            # groups: runs of units with the same rows in schedule order
+            # groups (ledger.c): runs of units with the same rows and
+            # columns whose samples follow on; with column tiles every tile
+            # is a group of its own
             self.groups = []
             for i, u in enumerate(units):
-                if self.groups and units[self.groups[-1][-1]][:2] == u[:2] and units[self.groups[-1][-1]][3] == u[2]:
+                prev = units[self.groups[-1][-1]] if self.groups else None
+                if prev is not None and prev[:2] == u[:2] and prev[4:6] == u[4:6] and prev[3] == u[2]:
                     self.groups[-1].append(i)
                 else:
                     self.groups.append([i])
@@ -497,11 +612,14 @@ class Picker:
         return i
 
 
-def simulate_farm2(job, N, m, split=True, affinity=False):
+def simulate_farm2(job, N, m, split=True, affinity=False, split_mode="columns"):
     """The farm of df446ae/c08005a: discrete-event simulation of rank 0's
     server, its render thread and N-1 workers that report each unit in 32
-    bytes and keep its sums (held.c), sending them combined per flush."""
-    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes, per_rank=m.per_rank)
+    bytes and keep its sums (held.c), sending them combined per flush.
+    split_mode: rows cut into column tiles ("columns", as built since
+    column tiles) or sample ranges ("samples", before) when too few."""
+    units = make_units(job.H, job.S, N, band=m.band, split=split, passes=m.passes, per_rank=m.per_rank,
+                       width=job.W, min_cols=m.min_cols, split_mode=split_mode)
     n = len(units)
     cost = [job.cost(u) / m.T * m.slowdown for u in units]
     pick = Picker(units, "affinity" if affinity else "fifo")
@@ -528,7 +646,7 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
         u = units[i]
         per_units[rank] += 1
         per_busy[rank] += cost[i]
-        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S
+        per_rows[rank] += (u[1] - u[0]) * (u[3] - u[2]) / job.S * (u[5] - u[4]) / W
 
     # rank 0's render thread: takes from the same queue, its sums go in at once
     if N == 1 or not m.serve_only:
@@ -541,9 +659,7 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
     w_busy = [False] * N
     w_idle = [0.0] * N
     w_wake = [False] * N
-    store = [dict() for _ in range(N)]  # (y0, y1) -> [s0, s1, n_ids]
-    sealed = [[] for _ in range(N)]     # full stores waiting to be sent
-    w_bytes = [0] * N                   # sums held (bytes, as held.c counts them)
+    held = [Held(W) for _ in range(N)]  # sums held (held.c)
     w_want = [False] * N                # rank 0 asked (IDLE, FLUSH)
     w_last_flush = [0.0] * N
     w_last_sent = [0.0] * N
@@ -576,7 +692,11 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
     for r in range(1, N):
         push(m.L, "arrive", 0, ("hello", r, 4))
         push(beat, "w_beat", r)
-        push(m.flush_interval, "w_tick", r)
+        if m.flush_interval != math.inf:
+            # worker.c: flushes staggered over the interval by rank, so
+            # that they do not all arrive at once
+            w_last_flush[r] = -m.flush_interval * (r - 1) / max(1, N - 1)
+            push(w_last_flush[r] + m.flush_interval, "w_tick", r)
 
     def sums_in(t, k):
         st["in"] += k
@@ -603,15 +723,12 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
         """Sends the sealed stores, then the current one: a message each."""
         w_want[r] = False
         w_last_flush[r] = t
-        stores = sealed[r] + ([store[r]] if store[r] else [])
-        sealed[r] = []
-        store[r] = {}
-        w_bytes[r] = 0
+        stores = held[r].take()
         if stores:
             st["flushes"] += 1
         for s in stores:
-            nbytes = sum(piece_bytes(W, k[0], k[1], p[2]) for k, p in s.items())
-            nids = sum(p[2] for p in s.values())
+            nbytes = sum(piece_bytes(p[3] - p[2], p[0], p[1], p[6], m.piece_hdr) for p in s)
+            nids = sum(p[6] for p in s)
             t += nbytes * m.pack_byte
             push(t + m.L, "arrive", 0, ("sums", r, nbytes, nids))
         w_last_sent[r] = t
@@ -722,25 +839,13 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
                 worker_start(t, r)
         elif kind == "w_end":
             r, i = who, data
-            u = units[i]
-            key = (u[0], u[1])
-            cur = store[r]
-            p = cur.get(key)
-            if p is not None and p[1] == u[2]:
-                p[1] = u[3]
-                p[2] += 1
-            else:
-                if p is not None:  # same rows, not its next samples: a new store
-                    sealed[r].append(cur)
-                    store[r] = cur = {}
-                cur[key] = [u[2], u[3], 1]
-                w_bytes[r] += (u[1] - u[0]) * W * 24
-            held_peak[r] = max(held_peak[r], w_bytes[r] + sum(
-                (k[1] - k[0]) * W * 24 for s in sealed[r] for k in s))
+            h = held[r]
+            h.add(units[i])  # a unit that does not fit seals the store: sent at once
+            held_peak[r] = max(held_peak[r], h.held_bytes())
             push(t + m.L, "arrive", 0, ("report", r, i))
             w_last_sent[r] = t
-            if (w_want[r] or sealed[r] or t - w_last_flush[r] >= m.flush_interval
-                    or w_bytes[r] >= m.flush_bytes):
+            if (w_want[r] or h.sealed or t - w_last_flush[r] >= m.flush_interval
+                    or h.held_bytes() >= m.flush_bytes):
                 flush(t, r)
             if m.worker_overhead > 0:
                 push(t + m.worker_overhead, "w_free", r)
@@ -751,7 +856,7 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
         elif kind == "w_tick":  # the flush interval, checked at a poll
             r = who
             if st["complete"] is None:
-                if t - w_last_flush[r] >= m.flush_interval - 1e-12 and (store[r] or sealed[r]):
+                if t - w_last_flush[r] >= m.flush_interval - 1e-12 and (held[r].store or held[r].sealed):
                     t0 = t if w_busy[r] else m.next_poll(w_idle[r], t)
                     flush(t0, r)
                 push(max(t, w_last_flush[r]) + m.flush_interval, "w_tick", r)
@@ -780,7 +885,9 @@ def simulate_farm2(job, N, m, split=True, affinity=False):
             "server_busy": st["server_busy"]}
 
 
-POLICIES = ("static", "bands", "split", "affinity")
+POLICIES = ("static", "bands", "split", "affinity", "tiles")
+V2_ONLY = ("affinity", "tiles")
+AS_BUILT = "tiles"  # the farm as built: affinity ledger, rows cut into column tiles
 
 
 def simulate(job, N, m, policy, setup=0.0, startup=0.0, write=0.0):
@@ -791,11 +898,12 @@ def simulate(job, N, m, policy, setup=0.0, startup=0.0, write=0.0):
     if policy == "static":
         res = simulate_static(job, N, m)
     elif m.farm == "v1":
-        if policy == "affinity":
-            raise ValueError("policy affinity is a v2 policy")
+        if policy in V2_ONLY:
+            raise ValueError("policy %s is a v2 policy" % policy)
         res = simulate_farm(job, N, m, split=policy == "split")
-    elif policy in ("bands", "split", "affinity"):
-        res = simulate_farm2(job, N, m, split=policy != "bands", affinity=policy == "affinity")
+    elif policy in ("bands", "split", "affinity", "tiles"):
+        res = simulate_farm2(job, N, m, split=policy != "bands", affinity=policy in ("affinity", "tiles"),
+                             split_mode="columns" if policy == "tiles" else "samples")
     else:
         raise ValueError(policy)
     ideal = job.total / m.T * m.slowdown
@@ -831,7 +939,7 @@ def parse_ranks(s):
 
 
 def compare(job, m, args):
-    """Prediction (policy affinity, the farm as built; split with --farm v1)
+    """Prediction (policy tiles, the farm as built; split with --farm v1)
     for the rank count of
     the measured runs (repeats of one configuration), next to what they
     measured: per rank units, busy share and rows (mean over the runs, with
@@ -844,7 +952,7 @@ def compare(job, m, args):
     if any(int(x["ranks"]) != N for x in runs):
         raise SystemExit("simulate_scaling: --compare runs differ in rank count")
     v2 = m.farm == "v2"
-    res = simulate(job, N, m, "affinity" if v2 else "split")
+    res = simulate(job, N, m, (args.compare_policy or AS_BUILT) if v2 else "split")
     pu, pb, prow = res["per_rank_units"], res["per_rank_busy"], res["per_rank_rows"]
     spb = sum(pb) or 1.0
 
@@ -949,11 +1057,12 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=16, help="threads per rank [16]")
     ap.add_argument("--ranks", type=parse_ranks, default=parse_ranks("1-4096"),
                     help="list, or LO-HI for the powers of two between [1-4096]")
-    ap.add_argument("--policies", help="static,bands,split,affinity [v2: all four; v1: static,bands,split]")
+    ap.add_argument("--policies", help="static,bands,split,affinity,tiles [v2: all five; v1: static,bands,split]")
     ap.add_argument("--farm", choices=("v1", "v2"), default="v2",
                     help="v2: the farm as built (df446ae: 32-byte reports, sums held and sent per flush); "
                          "v1: every unit's sums to rank 0 (bec6e4d and before), to reproduce old predictions [v2]")
-    ap.add_argument("--flush-interval", type=float, default=1.0, help="v2: a worker's flush interval, s [1]")
+    ap.add_argument("--flush-interval", type=float, default=0.1,
+                    help="v2: a worker's flush interval, s (rt-mpi --flush-interval; 1 before column tiles) [0.1]")
     ap.add_argument("--flush-mb", type=float, default=64, help="v2: a worker flushes when it holds this, MB [64]")
     ap.add_argument("--lease", type=float, default=5.0, help="v2: lease, s; an idle worker beats every lease/4 [5]")
     ap.add_argument("--pack-byte", type=float, default=V2_PACK,
@@ -961,8 +1070,16 @@ def main(argv=None):
     ap.add_argument("--reports-first", action="store_true",
                     help="v2, not built: rank 0 takes hellos, reports and beats before sums (probing their tags "
                          "first), so a burst of flushes does not hold up the next units")
-    ap.add_argument("--units-per-rank", type=int, default=8,
-                    help="v2: the schedule's target units per rank (src/core/schedule.c: 8) [8]")
+    ap.add_argument("--min-cols", type=int, default=16,
+                    help="v2: narrowest column tile (schedule.h min_cols); rows are cut into tiles only when "
+                         "ceil(ranks x units per rank / rows) <= width / this [16]")
+    ap.add_argument("--piece-header", type=int, default=PIECE_HDR,
+                    help="v2: bytes of a piece's header in a SUMS message before its unit ids: %d since column "
+                         "tiles (7 int64), %d before (to reproduce older predictions) [%d]"
+                         % (PIECE_HDR, PIECE_HDR_SAMPLES, PIECE_HDR))
+    ap.add_argument("--units-per-rank", type=int, default=16,
+                    help="v2: the schedule's target units per rank and pass (src/app/setup.c: 16 since column "
+                         "tiles, 8 before; v1 always 8) [16]")
     ap.add_argument("--network", choices=sorted(NETWORKS), default="ib",
                     help="latency/bandwidth preset: ib (2 us, 12.5 GB/s), eth (50 us, 1.25 GB/s), "
                          "shm (1 us, copies in service) [ib]")
@@ -994,8 +1111,10 @@ def main(argv=None):
     ap.add_argument("--slowdown", type=float, default=1.0, help="unit durations times this (shared cores)")
     ap.add_argument("--per-rank", action="store_true", help="print units and busy share per rank")
     ap.add_argument("--compare", metavar="STATS.json", nargs="+",
-                    help="print the prediction (policy affinity, the farm as built) next to these measured runs "
-                         "(repeats of one configuration)")
+                    help="print the prediction (policy tiles, the farm as built; see --compare-policy) next to "
+                         "these measured runs (repeats of one configuration)")
+    ap.add_argument("--compare-policy", choices=("bands", "split", "affinity", "tiles"),
+                    help="v2: the policy --compare predicts with [tiles]")
     ap.add_argument("--compare-trace", metavar="TRACE.json", nargs="+",
                     help="the measured runs' traces (checked against their stats)")
     ap.add_argument("--summary", metavar="FILE", help="append the --compare summary as a JSON line")
@@ -1060,15 +1179,15 @@ def main(argv=None):
               probe_miss=args.probe_miss, passes=args.passes, worker_overhead=args.worker_overhead,
               farm=args.farm, per_rank=args.units_per_rank, flush_interval=args.flush_interval,
               flush_bytes=args.flush_mb * 2 ** 20, lease=args.lease, pack_byte=args.pack_byte,
-              reports_first=args.reports_first)
+              reports_first=args.reports_first, min_cols=args.min_cols, piece_hdr=args.piece_header)
     if args.compare:
         return compare(job, m, args)
     if not args.policies:
         args.policies = "static,bands,split" if args.farm == "v1" else ",".join(POLICIES)
     policies = [p.strip() for p in args.policies.split(",") if p.strip()]
     for p in policies:
-        if p not in POLICIES or (p == "affinity" and args.farm == "v1"):
-            ap.error("unknown policy %r (static, bands, split%s)" % (p, "" if args.farm == "v1" else ", affinity"))
+        if p not in POLICIES or (p in V2_ONLY and args.farm == "v1"):
+            ap.error("unknown policy %r (static, bands, split%s)" % (p, "" if args.farm == "v1" else ", affinity, tiles"))
 
     out = {"job": {"width": W, "height": H, "samples": S, "cost_thread_seconds": job.total},
            "trace": {"files": args.trace, "width": tw, "height": th, "samples": ts, "threads": tt,
@@ -1078,9 +1197,9 @@ def main(argv=None):
                      "nap_base_s": m.nap_base, "nap_cap_s": m.nap_cap, "nap_slack_s": m.nap_slack,
                      "slowdown": m.slowdown, "serve_only": m.serve_only, "band": m.band,
                      "probe_miss": m.probe_miss, "passes": m.passes, "worker_overhead_s": m.worker_overhead,
-                     "farm": m.farm, "units_per_rank": m.per_rank, "flush_interval_s": m.flush_interval,
+                     "farm": m.farm, "units_per_rank": m.per_rank, "flush_interval_s": None if m.flush_interval == math.inf else m.flush_interval,
                      "flush_bytes": m.flush_bytes, "lease_s": m.lease, "pack_byte_s": m.pack_byte,
-                     "reports_first": m.reports_first,
+                     "reports_first": m.reports_first, "min_cols": m.min_cols, "piece_header": m.piece_hdr,
                      "setup_s": args.setup, "startup_s": args.startup, "write_s": args.write},
            "results": []}
     if not args.quiet:
