@@ -129,7 +129,9 @@ if want serve; then {
             printf '%s\t%s\t%s\n' 8 "$w" "$s" >>"$OUT/serve.tsv"
         done
         s=$OUT/serve-np2-w1200-r$r.stats.json
-        run 2 --empty-units --serve-only --width 1200 --height 2000 --band 1 -s 1 -j 1 --stats "$s" >/dev/null
+        # no flush interval: every sum comes in the final flush (see below)
+        run 2 --empty-units --serve-only --width 1200 --height 2000 --band 1 -s 1 -j 1 --flush-interval 0 \
+            --stats "$s" >/dev/null
         printf '%s\t%s\t%s\n' 2 1200 "$s" >>"$OUT/serve.tsv"
     done
     $PY - "$OUT/serve.tsv" "$OUT/serve.json" "$ROOT/tools" <<'PYEOF'
@@ -155,7 +157,7 @@ b = (syc * sxx - sxc * sxy) / det
 # the pack cost: the 1200-pixel runs send all their sums in the final flush
 job = sim.Job([0.0] * 2000, 1200, 2000, 1)
 m = sim.Model(threads=1, latency=1e-6, bandwidth=float("inf"), service_msg=a, service_byte=b, serve_only=True,
-              band=1, probe_miss=0)
+              band=1, probe_miss=0, flush_interval=0)
 p0 = sim.simulate(job, 2, m, "bands")
 fc = sorted(r[4] for r in pk)
 pack = max(0.0, (fc[len(fc) // 2] - p0["final_combine"]) / p0["sums_bytes"])
