@@ -127,6 +127,9 @@ const char *rt_cli_usage(void)
            "      --stats <FILE.json>  Machine-readable run summary: inputs, times per rank,\n"
            "                           version, command line, host, MPI library\n"
            "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
+           "      --done-file <FILE>   Once the image is written, a line in FILE: 'done', the image\n"
+           "                           hash, the ranks lost (for job scripts: a launcher may report\n"
+           "                           a job that lost ranks as failed)\n"
            "      --version            Print the version and the build's features, then exit\n"
            "  -h, --help               Print this help\n"
            "\n"
@@ -241,6 +244,7 @@ static const optdef OPTS[] = {
     {"checkpoint-interval", 0, K_U32, F(checkpoint_interval), 0, 86400},
     {"trace", 0, K_PATH, F(trace), 0, 0},
     {"stats", 0, K_PATH, F(stats), 0, 0},
+    {"done-file", 0, K_PATH, F(done_file), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
     {"lease", 0, K_U32, F(lease), 1, 86400},
     {"flush-interval", 0, K_CHOICE, 0, 0, 0},
@@ -666,6 +670,8 @@ int rt_cli_check_output(const rt_options *o, char *err, size_t errlen)
     if (check_image_path("--output", o->output, o, err, errlen))
         return RT_EINVAL;
     if (o->spp_map && check_image_path("--spp-map", o->spp_map, o, err, errlen))
+        return RT_EINVAL;
+    if (o->done_file && rt_cli_check_path("--done-file", o->done_file, err, errlen))
         return RT_EINVAL;
     return o->preview ? check_image_path("--preview", o->preview, o, err, errlen) : 0;
 }

@@ -34,6 +34,7 @@ typedef struct rt_options {
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */
     const char *trace, *stats;  /* JSON outputs, or NULL */
+    const char *done_file;      /* written once the image is, or NULL */
     uint32_t prefetch;
     uint32_t lease;          /* seconds of silence after which a rank is lost */
     double flush_interval;   /* seconds between a rank's sends of its sums; 0: only when asked */

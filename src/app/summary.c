@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "clock.h"
+#include "fileio.h"
 #include "image.h"
 #include "image_write.h"
 #include "mem.h"
@@ -272,6 +273,24 @@ static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->trace, rt_status_str(st));
 }
 
+/* --done-file: the image is written (one line, atomically). A launcher
+ * whose tasks died reports the job as failed even when the survivors
+ * finished it (srun exits 137); the job script reads this instead. */
+static void write_done(const rt_run *run, uint64_t hash)
+{
+    const char *path = run->opt.done_file;
+    if (!path)
+        return;
+    rt_atomic_file f;
+    int st = rt_atomic_open(&f, path);
+    if (st == RT_OK) {
+        fprintf(f.fp, "done %016" PRIx64 " lost %d %s\n", hash, run->res.lost, run->opt.output);
+        st = rt_atomic_commit(&f);
+    }
+    if (st)
+        fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", path, rt_status_str(st));
+}
+
 void rt_run_finish(rt_run *run)
 {
     const rt_job *j = &run->opt.job;
@@ -297,6 +316,7 @@ void rt_run_finish(rt_run *run)
         spp_tally(&spp, run->acc, npix, run->renderer.lay, j->samples);
     print_summary(run, hash, run->renderer.lay.count ? &spp : NULL);
     write_reports(run, hash, run->renderer.lay.count ? &spp : NULL);
+    write_done(run, hash);
 }
 
 void rt_run_free(rt_run *run)

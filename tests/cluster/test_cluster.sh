@@ -14,6 +14,9 @@
 #   lostsurvive  every rank on one host killed mid-render under mpirun
 #             --enable-recovery (--lease 2): the survivors finish by
 #             themselves, exit 0, the same bytes
+#   slurmlost every process of one host (slurmd too) killed mid-render of an
+#             sbatch job launched with srun: the script exits 0 with the
+#             image of an uninterrupted run
 #   slurm     slurmctld + a slurmd per host: scripts/slurm/rt-mpi.sbatch with
 #             sbatch -N 3 (srun --mpi=pmix, and mpirun in the allocation); a
 #             job signalled as before its time limit requeues itself and
@@ -22,7 +25,7 @@
 # a failure instead when RT_REQUIRE_ALL=1, as in scripts/test.sh).
 CASE=${1:-} BIN=${2:-} SERIAL=${3:-}
 if [[ -z $CASE || ! -x $BIN || ! -x $SERIAL ]]; then
-    echo "usage: $0 hostfile|mixed|badnet|losthost|lostsurvive|slurm RT_MPI_BINARY RT_MPI_SERIAL_BINARY" >&2
+    echo "usage: $0 hostfile|mixed|badnet|losthost|lostsurvive|slurm|slurmlost RT_MPI_BINARY RT_MPI_SERIAL_BINARY" >&2
     exit 2
 fi
 BIN=$(readlink -f "$BIN") SERIAL=$(readlink -f "$SERIAL")
@@ -36,7 +39,7 @@ now() { date +%s.%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f", b - a}'; } # from to
 
 if ! why=$(cluster_check) || ! command -v mpirun >/dev/null 2>&1 ||
-    { [[ $CASE == slurm ]] && ! PATH=$PATH:/usr/sbin command -v slurmctld >/dev/null 2>&1; }; then
+    { [[ $CASE == slurm* ]] && ! PATH=$PATH:/usr/sbin command -v slurmctld >/dev/null 2>&1; }; then
     [[ -z $why ]] && ! command -v mpirun >/dev/null 2>&1 && why="mpirun missing"
     why=${why:-"Slurm (slurm-wlm) not installed"}
     [[ ${RT_REQUIRE_ALL:-0} == 1 ]] && { echo "FAIL: cannot run here: $why"; exit 1; }
@@ -278,7 +281,7 @@ losthost | lostsurvive)
     fi
     ;;
 
-slurm)
+slurm | slurmlost)
     source "$HERE/slurm_cluster.sh"
     trap 'cslurm_down; cluster_down; rm -rf "$WORK"' EXIT
     t=$(now)
@@ -306,6 +309,43 @@ slurm)
         RT_OUTPUT="$WORK/$name.png" cslurm n1 timeout 30 sbatch --parsable --chdir="$WORK" \
             --output="$WORK/$name-%j.out" "$@"
     }
+    if [[ $CASE == slurmlost ]]; then
+        # Every process of n3 (slurmd, slurmstepd, ranks) killed mid-render
+        # of a job launched with srun (--no-kill in the script): the other
+        # ranks finish the image, and the script exits 0 on rank 0's done
+        # file although srun reports the dead tasks. Slurm itself waits for
+        # the dead node a long time, so the job's log is what is checked.
+        LONG=(--width 160 --height 100 -s 1500)
+        "$SERIAL" "${LONG[@]}" -q --no-checkpoint -j 2 -o "$WORK/ref-long.png" >/dev/null
+        REF=$WORK/ref-long.png
+        out=$WORK/lostnode.png
+        j=$(RT_LAUNCHER=srun RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=1500 RT_ARGS="-q --lease 4 --checkpoint-interval 1" \
+            submit lostnode -N 3 --ntasks-per-node=2 -c 1 "$SCRIPT") || { fail "sbatch -N 3 (srun) refused"; finish; }
+        for ((i = 0; i < 600; i++)); do [[ -s $out.ckpt ]] && break; sleep 0.1; done
+        [[ -s $out.ckpt ]] || { fail "job $j: no checkpoint within 60 s of the start"; show "$WORK/lostnode-$j.out"; finish; }
+        sleep 1
+        t=$(now)
+        victims=$(ip netns pids "$(cat "$RT_CLUSTER/hosts/n3.net")" | wc -l)
+        cluster_kill n3 KILL
+        # what slurmctld does once n3 is silent for SlurmdTimeout (300 s
+        # here): without --no-kill that ends the job (NODE_FAIL)
+        cslurm n1 scontrol update NodeName=n3 State=DOWN Reason=rt-mpi-test
+        note "job $j: killed the $victims processes on n3 (slurmd, its step, its ranks); n3 set DOWN"
+        log=$WORK/lostnode-$j.out
+        for ((i = 0; i < 240; i++)); do grep -q "done: $out" "$log" 2>/dev/null && break; sleep 0.25; done
+        if grep -q "done: $out" "$log"; then
+            pass "job $j: the script finished the render $(secs "$t" "$(now)") s after n3 was lost"
+        else
+            fail "job $j: no 'done' in its log 60 s after n3 was lost"
+        fi
+        grep -q "the launcher exited with [1-9][0-9]*, but rank 0 finished the image" "$log" &&
+            pass "job $j: srun's failure status was overruled by rank 0's done file" ||
+            note "srun exited 0 by itself"
+        grep -q "^rank [45]: .*on n3 (lost at" "$log" && pass "job $j: the summary names n3's ranks lost" ||
+            fail "job $j: n3's ranks not reported lost: $(grep -m2 'lost' "$log")"
+        same_image "lost node under srun" "$out" || show "$log"
+        finish
+    fi
     for l in srun mpirun; do
         t=$(now)
         j=$(RT_LAUNCHER=$l RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=4 RT_ARGS=-q \

@@ -23,6 +23,7 @@ lose_rank() { # label signal rank
     local t0 victim
     t0=$(date +%s.%N)
     timeout 120 "$MPIRUN" --enable-recovery -np 3 --bind-to none "$BIN" "${K[@]}" -j 1 --lease 2 -o "$out" \
+        --done-file "$WORK/$label.done" \
         >"$WORK/$label.out" 2>"$WORK/$label.err" &
     local pid=$!
     victim=$(rank_pid "-o $out" "$rank")
@@ -39,6 +40,10 @@ lose_rank() { # label signal rank
         fail "$label: no loss reported: $(grep -m2 rt-mpi "$WORK/$label.err")"
     grep -q "^lost ranks: *1" "$WORK/$label.out" && pass "$label: the summary counts the lost rank" ||
         fail "$label: summary: $(grep -m1 lost "$WORK/$label.out")"
+    # --done-file (what a job script reads when the launcher reports the
+    # dead rank as a failure): done, the image's hash, one rank lost
+    check_eq "$label: --done-file" "$(cat "$WORK/$label.done" 2>&1)" \
+        "done $(sed -n 's/^image hash: *//p' "$WORK/$label.out") lost 1 $out"
     # the summary says when and what the loss cost: silent for at least
     # the 2 s lease, some units handed on
     local cost
