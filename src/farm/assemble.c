@@ -12,6 +12,7 @@ struct rt_pending {
     int64_t *sums;
     uint32_t n_units;
     uint32_t cols; /* a gathered block: columns in so far */
+    struct rt_pending *next; /* a gathered block: the next of its first row */
 };
 
 int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p, const uint32_t *committed,
@@ -27,9 +28,11 @@ int rt_assembly_init(rt_assembly *a, const rt_job *job, const rt_sched_params *p
     a->tracing = tracing;
     a->stats = calloc((size_t)(ranks > 0 ? ranks : 1), sizeof *a->stats);
     a->unit_secs = calloc(a->sched.n_units ? a->sched.n_units : 1, sizeof *a->unit_secs);
-    if (!a->stats || !a->unit_secs) {
+    a->gather = calloc(job->height, sizeof *a->gather);
+    if (!a->stats || !a->unit_secs || !a->gather) {
         free(a->stats);
         free(a->unit_secs);
+        free(a->gather);
         rt_sched_free(&a->sched);
         return RT_ENOMEM;
     }
@@ -41,8 +44,12 @@ void rt_assembly_free(rt_assembly *a)
     for (size_t i = 0; i < a->n_pending; i++)
         free(a->pending[i].sums);
     free(a->pending);
-    for (size_t i = 0; i < a->n_gather; i++)
-        free(a->gather[i].sums);
+    for (uint32_t y = 0; a->gather && y < a->sched.height; y++)
+        for (struct rt_pending *g = a->gather[y], *next; g; g = next) {
+            next = g->next;
+            free(g->sums);
+            free(g);
+        }
     free(a->gather);
     free(a->stats);
     free(a->unit_secs);
@@ -111,7 +118,7 @@ static int keep_owned(rt_assembly *a, const rt_unit *u, int64_t *sums, uint32_t 
         free(sums);
         return RT_ENOMEM;
     }
-    a->pending[a->n_pending++] = (struct rt_pending){*u, sums, n_units, 0};
+    a->pending[a->n_pending++] = (struct rt_pending){*u, sums, n_units, 0, NULL};
     return RT_OK;
 }
 
@@ -129,20 +136,23 @@ static int keep(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32_t 
  * samples); once every column is in, the block goes on like a unit. */
 static int gather(rt_assembly *a, const rt_unit *t, const int64_t *sums, uint32_t n_units)
 {
-    size_t i = 0;
-    while (i < a->n_gather && !(a->gather[i].unit.y0 == t->y0 && a->gather[i].unit.y1 == t->y1 &&
-                                a->gather[i].unit.s0 == t->s0 && a->gather[i].unit.s1 == t->s1))
-        i++;
-    if (i == a->n_gather) {
-        int64_t *block = calloc(unit_len(a, t), sizeof *block);
-        if (!block || rt_array_reserve((void **)&a->gather, &a->cap_gather, a->n_gather + 1, sizeof *a->gather)) {
+    struct rt_pending **at = &a->gather[t->y0];
+    while (*at && !((*at)->unit.y1 == t->y1 && (*at)->unit.s0 == t->s0 && (*at)->unit.s1 == t->s1))
+        at = &(*at)->next;
+    if (!*at) {
+        struct rt_pending *block = malloc(sizeof *block);
+        /* not zeroed: the tiles cover every column once before it is used */
+        int64_t *sums0 = malloc(unit_len(a, t) * sizeof *sums0);
+        if (!block || !sums0) {
             free(block);
+            free(sums0);
             return RT_ENOMEM;
         }
-        a->gather[a->n_gather++] =
-            (struct rt_pending){{0, t->y0, t->y1, t->s0, t->s1, 0, a->sched.width}, block, 0, 0};
+        *block = (struct rt_pending){{0, t->y0, t->y1, t->s0, t->s1, 0, a->sched.width}, sums0, 0, 0, NULL};
+        *at = block;
+        a->n_gather++;
     }
-    struct rt_pending *g = &a->gather[i];
+    struct rt_pending *g = *at;
     const size_t ch = a->row / a->sched.width, w = (size_t)(t->x1 - t->x0) * ch;
     for (uint32_t y = 0; y < t->y1 - t->y0; y++)
         memcpy(g->sums + y * a->row + t->x0 * ch, sums + y * w, w * sizeof *sums);
@@ -151,7 +161,9 @@ static int gather(rt_assembly *a, const rt_unit *t, const int64_t *sums, uint32_
     if (g->cols < a->sched.width)
         return RT_OK;
     struct rt_pending full = *g;
-    *g = a->gather[--a->n_gather];
+    *at = g->next;
+    free(g);
+    a->n_gather--;
     if (!rt_sched_can_commit(&a->sched, &full.unit))
         return keep_owned(a, &full.unit, full.sums, full.n_units);
     commit(a, &full.unit, full.sums, full.n_units);

@@ -19,8 +19,11 @@ typedef struct rt_assembly {
     int64_t *acc; /* the caller's framebuffer: height*row sums */
     struct rt_pending *pending; /* units that arrived before their predecessors */
     size_t n_pending, cap_pending;
-    struct rt_pending *gather; /* blocks of whole rows whose tiles are coming in */
-    size_t n_gather, cap_gather;
+    /* blocks of whole rows whose tiles are coming in: per first row, a list
+     * (one block, or one a pass in flight), so a tile finds its block at
+     * once however many rows are in flight */
+    struct rt_pending **gather;
+    size_t n_gather;
     uint64_t segments;
     uint32_t units_in; /* units whose sums are in the image */
     rt_rank_stats *stats; /* one per rank */
