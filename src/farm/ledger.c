@@ -124,6 +124,15 @@ int rt_ledger_in(rt_ledger *L, int rank, uint32_t id)
     return 1;
 }
 
+double rt_ledger_held_sum(const rt_ledger *L, int rank, const double *per_unit)
+{
+    double sum = 0;
+    for (uint32_t i = 0; L->held[rank] && i < L->n; i++)
+        if (L->owner[i] == rank && L->state[i] == RT_UNIT_DONE)
+            sum += per_unit[i];
+    return sum;
+}
+
 uint32_t rt_ledger_lose(rt_ledger *L, int rank)
 {
     uint32_t back = 0;

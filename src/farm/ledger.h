@@ -52,6 +52,9 @@ int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u);
 int rt_ledger_done(rt_ledger *L, int rank, uint32_t id);
 /* rank sent the sums of unit id: 1, or 0 when it does not hold them. */
 int rt_ledger_in(rt_ledger *L, int rank, uint32_t id);
+/* The sum of per_unit[id] over the units rank reported done but whose
+ * sums are not in (what losing it now would throw away). */
+double rt_ledger_held_sum(const rt_ledger *L, int rank, const double *per_unit);
 /* rank is lost: its assigned and held units are queued again. Returns how
  * many. */
 uint32_t rt_ledger_lose(rt_ledger *L, int rank);

@@ -149,11 +149,7 @@ static void lose(server *s, int r, const char *why)
     pthread_mutex_lock(&s->R->mu);
     /* what the loss costs: the rendering of units it reported done but
      * whose sums it still held */
-    const rt_ledger *L = &s->R->led;
-    double redone = 0;
-    for (uint32_t i = 0; i < L->n; i++)
-        if (L->owner[i] == r && L->state[i] == RT_UNIT_DONE)
-            redone += s->R->as.unit_secs[i];
+    const double redone = rt_ledger_held_sum(&s->R->led, r, s->R->as.unit_secs);
     uint32_t back = rt_ledger_lose(&s->R->led, r);
     rt_rank_stats *st = &s->R->as.stats[r];
     st->lost = 1;

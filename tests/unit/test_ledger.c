@@ -47,6 +47,14 @@ int main(void)
     CHECK_EQ_INT(rt_ledger_in(&L, 1, a[1].id), 1);
     CHECK_EQ_INT(rt_ledger_done(&L, 1, 99999), 0);   /* no such unit */
     CHECK_EQ_INT(L.held[1], 1);                     /* a[0]: done, sums still on rank 1 */
+    /* what losing rank 1 throws away: a[0]'s rendering only (a[1] is in,
+     * a[2] and a[3] not done) */
+    double *secs = calloc(n, sizeof *secs);
+    for (uint32_t i = 0; i < n; i++)
+        secs[i] = 1.0 + i;
+    CHECK_NEAR(rt_ledger_held_sum(&L, 1, secs), 1.0 + a[0].id, 0);
+    CHECK_NEAR(rt_ledger_held_sum(&L, 2, secs), 0, 0);
+    free(secs);
 
     /* Rank 1 is lost: a[0] (done, not in), a[2], a[3] (assigned) come back;
      * a[1] is in the image and stays. */
