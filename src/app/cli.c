@@ -278,6 +278,17 @@ static int number(const char *name, const char *val, uint64_t lo, uint64_t hi, u
     return r;
 }
 
+/* A real number in (lo, hi] (above_lo) or [lo, hi]: RT_OK or RT_EINVAL. */
+static int real(const char *val, double lo, double hi, int above_lo, double *out)
+{
+    char *end;
+    double v = strtod(val, &end);
+    if (end == val || *end || !(above_lo ? v > lo : v >= lo) || !(v <= hi))
+        return RT_EINVAL;
+    *out = v;
+    return RT_OK;
+}
+
 /* The options whose value names one of a set of choices. */
 static int choice(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
 {
@@ -307,21 +318,15 @@ static int choice(const optdef *d, const char *name, const char *val, rt_options
         }
         o->bit_depth = val[0] == '8' ? 8 : 16;
     } else if (!strcmp(d->lng, "noise-threshold")) {
-        char *end;
-        double v = strtod(val, &end);
-        if (end == val || *end || !(v > 0.0 && v <= 1.0)) {
+        if (real(val, 0.0, 1.0, 1, &o->job.noise_threshold)) {
             snprintf(err, errlen, "%s: '%s' is not a number above 0 and at most 1", name, val);
             return RT_EINVAL;
         }
-        o->job.noise_threshold = v;
     } else if (!strcmp(d->lng, "flush-interval")) {
-        char *end;
-        double v = strtod(val, &end);
-        if (end == val || *end || !(v >= 0.0 && v <= 86400.0)) {
+        if (real(val, 0.0, 86400.0, 0, &o->flush_interval)) {
             snprintf(err, errlen, "%s: '%s' is not a number of seconds from 0 to 86400", name, val);
             return RT_EINVAL;
         }
-        o->flush_interval = v;
     } else if (!strcmp(d->lng, "split")) {
         if (strcmp(val, "columns") && strcmp(val, "samples")) {
             snprintf(err, errlen, "%s: '%s' is not columns or samples", name, val);
