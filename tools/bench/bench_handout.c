@@ -45,6 +45,8 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "msg.h" /* the farm's nap and probe: rt_msg_nap, rt_msg_probe */
+
 enum { TAG_HELLO = 11, TAG_REPORT, TAG_UNITS, TAG_FINISH };
 #define MSG_REPORT 4
 #define MSG_UNIT 7
@@ -63,25 +65,6 @@ static double cpu(int who)
         return 0;
     return (double)ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
            1e-6 * ru.ru_stime.tv_usec;
-}
-
-/* The farm's nap and probe (src/farm/msg.c). */
-static void nap(int *idle)
-{
-    long ns = 50000L << (*idle < 5 ? *idle : 5);
-    if (ns > 1000000L)
-        ns = 1000000L;
-    struct timespec ts = {0, ns};
-    nanosleep(&ts, NULL);
-    (*idle)++;
-}
-
-static int probe(int source, int *flag, MPI_Status *st)
-{
-    int rc = MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, flag, st);
-    if (rc == MPI_SUCCESS && !*flag)
-        rc = MPI_Iprobe(source, MPI_ANY_TAG, MPI_COMM_WORLD, flag, st);
-    return rc;
 }
 
 static void spin(double us)
@@ -228,9 +211,9 @@ static void root_p2p(const opts *o, int size, root *s)
         reap(s);
         int flag = 0;
         MPI_Status st;
-        probe(MPI_ANY_SOURCE, &flag, &st);
+        rt_msg_probe(MPI_ANY_SOURCE, &flag, &st);
         if (!flag) {
-            nap(&idle);
+            rt_msg_nap(&idle);
             continue;
         }
         idle = 0;
@@ -295,7 +278,7 @@ static long worker_p2p(const opts *o)
         for (;;) {
             int flag = 0;
             MPI_Status st;
-            probe(0, &flag, &st);
+            rt_msg_probe(0, &flag, &st);
             if (!flag)
                 break;
             got = 1;
@@ -315,7 +298,7 @@ static long worker_p2p(const opts *o)
         if (got)
             idle = 0;
         else if (!qlen && !n_rep && !finished)
-            nap(&idle);
+            rt_msg_nap(&idle);
     }
     free(queue);
     free(m);
@@ -369,10 +352,10 @@ static long root_rma(const opts *o, ledger *L, MPI_Request *end)
             MPI_Probe(MPI_ANY_SOURCE, TAG_REPORT, MPI_COMM_WORLD, &st);
             flag = 1;
         } else {
-            probe(MPI_ANY_SOURCE, &flag, &st);
+            rt_msg_probe(MPI_ANY_SOURCE, &flag, &st);
         }
         if (!flag) {
-            nap(&idle);
+            rt_msg_nap(&idle);
             continue;
         }
         idle = 0;
@@ -394,8 +377,8 @@ static long root_rma(const opts *o, ledger *L, MPI_Request *end)
                 if (flag)
                     break;
                 MPI_Status st;
-                probe(MPI_ANY_SOURCE, &flag, &st); /* the farm's loop: nothing comes */
-                nap(&idle);
+                rt_msg_probe(MPI_ANY_SOURCE, &flag, &st); /* the farm's loop: nothing comes */
+                rt_msg_nap(&idle);
             }
         }
     }
