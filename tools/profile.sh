@@ -14,13 +14,14 @@
 # and prints instructions per ray segment: in the intersector (per query)
 # and in everything else of the render (camera, shading, sampling, RNG).
 # The full profile stays in $PROFILE_BUILD_DIR/callgrind.out for
-# callgrind_annotate.
+# callgrind_annotate. PROFILE_CFLAGS adds compiler flags, e.g.
+# PROFILE_CFLAGS=-march=x86-64-v3 (AVX2; a build dir of its own).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${PROFILE_BUILD_DIR:-$ROOT/build-profile}
 mkdir -p "$BUILD"
 RT_EXTRA_PACKAGES="valgrind python3" RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF \
-    -DRT_MPI=OFF -DBUILD_TESTING=OFF -DCMAKE_C_FLAGS=-g >/dev/null 2>"$BUILD/setup.log" ||
+    -DRT_MPI=OFF -DBUILD_TESTING=OFF "-DCMAKE_C_FLAGS=-g ${PROFILE_CFLAGS:-}" >/dev/null 2>"$BUILD/setup.log" ||
     { cat "$BUILD/setup.log" >&2; exit 2; }
 OUT=$BUILD/callgrind.out
 OPTS=(--width 150 --height 100 -s 8 -j 1 "$@")
