@@ -37,7 +37,7 @@ typedef struct aov_rec {
 typedef struct pixel_ctx {
     const rt_renderer *r;
     uint32_t x, y;
-    uint64_t key;    /* the pixel's sampling key (pixel_key) */
+    rt_sampler_pixel smp; /* the pixel's sampler */
     uint32_t pfirst; /* its camera rays' list (primary_list), pn < 0: none */
     int32_t pn;
     int aovs;
@@ -71,8 +71,13 @@ static inline int32_t primary_list(const rt_renderer *r, uint32_t x, uint32_t y,
 /* Pixel (x, y)'s context, its samples drawn with key. */
 static inline pixel_ctx pixel_start(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t key, int aovs)
 {
-    pixel_ctx pc = {r, x, y, key, 0, -1, aovs};
+    pixel_ctx pc;
+    pc.r = r;
+    pc.x = x;
+    pc.y = y;
+    rt_sampler_for_pixel(&pc.smp, r->job.sampler, key);
     pc.pn = primary_list(r, x, y, &pc.pfirst);
+    pc.aovs = aovs;
     return pc;
 }
 
@@ -82,17 +87,17 @@ static inline __attribute__((always_inline)) void path_start(const pixel_ctx *pc
 {
     const rt_renderer *r = pc->r;
     const uint32_t W = r->job.width, H = r->job.height;
-    p->smp = rt_sampler_start(r->job.sampler, pc->key, sample);
+    p->smp = rt_sampler_start(&pc->smp, sample);
     p->thr = rt_v3(1, 1, 1);
     p->col = rt_v3(0, 0, 0);
     p->aov = (aov_rec){0, {0, 0, 0}, {0, 0, 0}};
     double du, dv;
-    rt_sampler_pixel(&p->smp, &du, &dv);
+    rt_sampler_pixel2d(&p->smp, &du, &dv);
     /* The seed renderer's mapping: v counts rows from the bottom. */
     double u = ((double)pc->x + du) / (double)(W > 1 ? W - 1 : 1);
     double v = ((double)(H - 1 - pc->y) + dv) / (double)(H > 1 ? H - 1 : 1);
     if (r->camera.lens_radius > 0.0) { /* only then a lens sample (rt_camera_ray) */
-        rt_vec3 d = rt_sampler_disk(&p->smp);
+        rt_vec3 d = rt_sampler_lens(&p->smp);
         p->ray = rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
     } else {
         p->ray = rt_camera_ray_lens(&r->camera, u, v, 0.0, 0.0);
@@ -127,7 +132,7 @@ static inline __attribute__((always_inline)) int path_roulette(const rt_renderer
     q = p->thr.z > q ? p->thr.z : q;
     q *= 1.0 / RT_RENDER_ROULETTE_KEEP;
     if (q < 1.0) {
-        if (!(rt_sampler_roulette(&p->smp) < q))
+        if (!(rt_sampler_get1d(&p->smp) < q))
             return 0;
         p->thr = rt_v3_scale(p->thr, 1.0 / q);
     }
@@ -246,7 +251,8 @@ static inline uint32_t pilot_count(const pixel_ctx *pc, uint64_t *segments)
     /* the pixel's key for a seed of their own: numbers independent of its
      * samples' */
     pixel_ctx pilot = *pc;
-    pilot.key = rt_rng_pixel_key(r->job.seed ^ RT_ADAPT_PILOT_SALT, (uint64_t)pc->y * r->job.width + pc->x);
+    rt_sampler_for_pixel(&pilot.smp, r->job.sampler,
+                         rt_rng_pixel_key(r->job.seed ^ RT_ADAPT_PILOT_SALT, (uint64_t)pc->y * r->job.width + pc->x));
     pilot.aovs = 0;
     double l = 0, l2 = 0;
     for (uint32_t k = 0; k < RT_ADAPT_FIRST; k++) {
