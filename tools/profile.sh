@@ -52,7 +52,7 @@ segs = stats["ray_segments"]
 # in packets (render.h, rt_render_in_packet) and the AVX traversal for the
 # others; every other path loop calls rt_accel_closest, once per segment.
 present = lambda fn: re.search(own_line(fn), text, re.M) is not None
-# the render: rank 0 renders its units as one stream (render.c); the
+# the render: rank 0 renders its units as one stream (team.c); the
 # commits of finished units (farm.c's local_done) are not part of it
 render = inclusive("rt_render_stream") - (inclusive("local_done") if present("local_done") else 0)
 # Camera rays whose tile has a candidate list (primary.h: our BVH only) go
