@@ -245,14 +245,24 @@ static inline uint64_t rt_sampler_get2d(rt_sampler *s)
     return rt_sampler_pair(s, pair);
 }
 
+/* The first coordinate of pair `pair` of s's sample (its .x), without
+ * Sobol's second dimension: what a 1D request at an even dimension needs. */
+static inline uint32_t rt_sampler_first(const rt_sampler *s, uint32_t pair)
+{
+    if (pair < RT_SAMPLER_KEPT)
+        return (pair ? rt_sampler_nested(s->rev_index, s->px->seed[pair]) : s->rev_index) ^
+               (uint32_t)(s->px->shift[pair] >> 32);
+    const uint64_t h = rt_sampler_pair_hash(s->px->key, pair); /* rt_sampler_pair_keys' */
+    return rt_sampler_nested(s->rev_index, (uint32_t)h) ^ (uint32_t)(h >> 32);
+}
+
 /* The next 1D number, in (0, 1) ([0, 1) for random). */
 static inline double rt_sampler_get1d(rt_sampler *s)
 {
     if (s->kind == RT_SAMPLER_RANDOM)
         return rt_rng_double(&s->rng);
     const uint32_t d = s->dim++;
-    const uint64_t v = rt_sampler_pair(s, d >> 1);
-    return rt_warp_unit((uint32_t)(d & 1u ? v : v >> 32));
+    return rt_warp_unit(d & 1u ? (uint32_t)rt_sampler_pair(s, d >> 1) : rt_sampler_first(s, d >> 1));
 }
 
 /* The position in the pixel (the first request), two numbers in [0, 1). */
