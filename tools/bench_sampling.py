@@ -1,33 +1,41 @@
 #!/usr/bin/env python3
 """bench_sampling.py [--build DIR] [--width W] [--height H] [--ref-spp N] [-j J]
-                     [--scenes a,b,c] [--rounds R] [--quick]
+                     [--scenes a,b,c] [--configs a,b] [--rounds R] [--quick]
 
-Time to the same error (issue 28): per scene, renders with each sampler
-configuration (random = today's sampler, sobol, sobol + Russian roulette,
-and that with adaptive sampling at three noise thresholds, where the
-sample count is the most a pixel may take) at several sample counts, and prints samples, ray segments, render wall
-time, RMSE and 8x8-block RMSE against a reference, the mean's offset from
-the reference, and the time and the ray segments each configuration needs
-to reach the RMSE of the random sampler at 500 spp (the sample count
-interpolated on log-log between those rendered), as fractions of the
-random sampler's.
-
-Time: on a shared machine one render's wall time says little (here two
-cores shared with other jobs: the same render took 1x to 3x as long from
-one minute to the next). So each configuration's cost per ray segment is
-measured apart, as the fastest of R interleaved renders of the same job
-(64 spp), and time = the render's ray segments (counted exactly) x that
-cost; the quality renders' own wall times are printed as they came.
+Time to the same error (issues 28 and 34): per scene, renders with each
+sampler configuration (random = sampling version 2's sampler, sobol, sobol
++ Russian roulette = the default; with --configs also adaptive sampling at
+three noise thresholds, where the sample count is the most a pixel may
+take) at several sample counts, and prints samples, ray segments, wall
+time, and the errors against a reference in two spaces:
+- display: the image as the viewer sees it, each channel clamped to [0, 1]
+  and taken to gamma 2 (sqrt), 0-255, as the PNG writer does: RMSE in
+  8-bit levels. The dark, noisy parts of an image weigh here as they look.
+- linear: radiance as rendered (PFM), RMSE and 8x8-block RMSE, where the
+  sky's and the highlights' errors dominate.
+Then, for each space, the time each configuration needs to reach the error
+of the random sampler at 500 spp (the error interpolated on log-log between
+the renders that bracket it), as a fraction of the random sampler's, twice:
+- wall: the renders' real wall times, each the fastest of R interleaved
+  rounds (every configuration and sample count renders once per round, in
+  turn, so a load that comes and goes on a shared machine falls on all);
+- estimate: ray segments (counted exactly) x cost per segment, the cost the
+  fastest of R interleaved 64-spp renders per configuration;
+- paired wall (display space): each configuration at the sample count that
+  reaches the target, rendered R times back to back with the random
+  sampler at 500 spp, alternating which goes first: the median ratio of
+  the two wall times (and the range), the most direct measure on a
+  machine whose load changes from minute to minute.
 
 The reference is rendered once with the random sampler (cached under
 BUILD/bench_sampling/) as two halves with seeds of their own: the scene is
 read from a file (--dump-scene), so the seed changes only the sampling, and
 the renders under test (seed 42) share no random numbers with it. The
-halves also measure the reference's own noise (E|A - B|^2 / 4 is the mean
-square error of their mean), which is taken off every MSE, so the RMSEs are
-those against the true image. Images are compared as linear floats (PFM).
-Not a test: timings depend on the machine and its load (two shared cores
-here: -j 2, and each render R times, the fastest kept).
+halves also measure the reference's own noise, in each space: E|A - B|^2 / 4
+is the mean square error of their mean (in display space to first order,
+the display map being smooth at the noise's scale except at clamped
+pixels), and it is taken off every MSE, so the RMSEs are those against the
+true image. Not a test: timings depend on the machine and its load.
 """
 import argparse
 import json
@@ -44,6 +52,7 @@ CONFIGS = [  # name, options, sample counts
     ("random", ["--sampler", "random"], [125, 250, 500, 1000]),
     ("sobol", ["--sampler", "sobol", "--no-roulette"], [32, 64, 128, 256, 500]),
     ("sobol+rr", ["--sampler", "sobol", "--roulette"], [32, 64, 128, 256, 500]),
+    # opt-in (--configs): adaptive sampling
     ("adapt0.05", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.05"], [128, 256, 512, 1024]),
     ("adapt0.02", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.02"], [128, 256, 512, 1024]),
     ("adapt0.01", ["--sampler", "sobol", "--roulette", "--noise-threshold", "0.01"], [128, 256, 512, 1024, 2048]),
@@ -86,6 +95,11 @@ def block_means(w, h, px, b=8):
     return [v / (b * b) for v in out]
 
 
+def display(px):
+    """Each channel as the viewer sees it: clamped, gamma 2, 0-255."""
+    return array("d", (255.0 * math.sqrt(v if v < 1.0 else 1.0) if v > 0.0 else 0.0 for v in px))
+
+
 def mse(a, b):
     return sum((x - y) * (x - y) for x, y in zip(a, b)) / len(a)
 
@@ -113,6 +127,24 @@ def time_to(points, target):
     return t, "~"
 
 
+def paired_walls(binary, sfile, size, configs, name, spp, rounds):
+    """Wall time of configuration name at spp (the count that reaches the
+    target) over the random sampler's at 500 spp, rendered back to back,
+    R times, alternating which goes first: the sorted ratios."""
+    opts = {c[0]: c[1] for c in configs}
+    t_name, t_spp = TARGET
+    jobs = [(opts[t_name], t_spp), (opts[name], spp)]
+    ratios = []
+    for r in range(rounds):
+        wall = {}
+        for k in ((0, 1) if r % 2 == 0 else (1, 0)):
+            o, n = jobs[k]
+            wall[k] = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(n), "-o",
+                                   os.path.join(os.path.dirname(sfile), "paired.pfm")] + o + size)[0]
+        ratios.append(wall[1] / wall[0])
+    return sorted(ratios)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
@@ -121,18 +153,22 @@ def main():
     ap.add_argument("--ref-spp", type=int, default=4096)
     ap.add_argument("-j", "--threads", type=int, default=2)
     ap.add_argument("--scenes", default="final,materials,defocus")
-    ap.add_argument("--rounds", type=int, default=15)
+    ap.add_argument("--configs", default="random,sobol,sobol+rr",
+                    help="of " + ",".join(c[0] for c in CONFIGS) + " (random is always in)")
+    ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--quick", action="store_true", help="150x100, 1024-spp reference, one round")
     o = ap.parse_args()
     if o.quick:
-        o.width, o.height, o.ref_spp, o.rounds = 150, 100, 1024, 3
+        o.width, o.height, o.ref_spp, o.rounds = 150, 100, 1024, 1
+    wanted = set(o.configs.split(",")) | {"random"}
+    configs = [c for c in CONFIGS if c[0] in wanted]
     binary = os.path.join(o.build, "rt-mpi")
     cache = os.path.join(o.build, "bench_sampling")
     os.makedirs(cache, exist_ok=True)
     size = ["--width", str(o.width), "--height", str(o.height), "-j", str(o.threads), "-q", "--no-checkpoint"]
     version = subprocess.run([binary, "--version"], check=True, capture_output=True, text=True).stdout.strip()
     print(f"# {version}; {o.width}x{o.height}, -j {o.threads}, reference {o.ref_spp} spp (random sampler), "
-          f"cost per ray segment: fastest of {o.rounds} interleaved 64-spp renders")
+          f"wall times and cost per ray segment: fastest of {o.rounds} interleaved rounds")
     summary = []
     for scene in o.scenes.split(","):
         sfile = os.path.join(cache, f"{scene}.json")
@@ -148,56 +184,74 @@ def main():
             halves.append(read_pfm(path)[2])
         w, h = o.width, o.height
         ref = array("f", [(a + b) * 0.5 for a, b in zip(*halves)])
+        ref_d = display(ref)
         ref_mse = mse(halves[0], halves[1]) / 4
+        ref_d_mse = mse(display(halves[0]), display(halves[1])) / 4
         ref_blocks = block_means(w, h, ref)
         ref_block_mse = mse(block_means(w, h, halves[0]), block_means(w, h, halves[1])) / 4
         ref_means = channel_means(ref)
-        print(f"\n## {scene}: reference's own RMSE {math.sqrt(ref_mse):.5f} (taken off below), "
-              f"channel means {ref_means[0]:.4f} {ref_means[1]:.4f} {ref_means[2]:.4f}")
-        print(f"{'config':<10} {'spp':>5} {'mean spp':>8} {'segments':>11} {'seg/sample':>10} {'time s':>8} "
-              f"{'RMSE':>8} {'8x8 RMSE':>9} {'mean - ref (r g b)':>26}")
+        print(f"\n## {scene}: reference's own RMSE (taken off below) {math.sqrt(ref_d_mse):.3f} display, "
+              f"{math.sqrt(ref_mse):.5f} linear; channel means {ref_means[0]:.4f} {ref_means[1]:.4f} {ref_means[2]:.4f}")
+        # the renders, every one once per round, in turn; the fastest wall time of each
+        walls, results = {}, {}
+        for rnd in range(o.rounds):
+            for name, opts, spps in configs:
+                for spp in spps:
+                    out = os.path.join(cache, f"out_{scene}_{name}_{spp}.pfm")
+                    wall, segs = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(spp), "-o", out,
+                                              "--stats", out + ".json"] + opts + size)
+                    walls[name, spp] = min(walls.get((name, spp), float("inf")), wall)
+                    if rnd == 0:
+                        with open(out + ".json") as f:
+                            mean_spp = json.load(f).get("adaptive", {}).get("mean_samples_per_pixel", spp)
+                        img = read_pfm(out)[2]
+                        e = max(mse(img, ref) - ref_mse, 1e-30)
+                        ed = max(mse(display(img), ref_d) - ref_d_mse, 1e-30)
+                        eb = max(mse(block_means(w, h, img), ref_blocks) - ref_block_mse, 1e-30)
+                        means = channel_means(img)
+                        d = " ".join(f"{m - r:+.5f}" for m, r in zip(means, ref_means))
+                        results[name, spp] = (mean_spp, segs, e, ed, eb, d)
+        print(f"{'config':<10} {'spp':>5} {'mean spp':>8} {'segments':>11} {'seg/sample':>10} {'wall s':>7} "
+              f"{'display':>8} {'RMSE':>8} {'8x8 RMSE':>9} {'mean - ref (r g b)':>26}")
         points = {}
-        for name, opts, spps in CONFIGS:
+        for name, _, spps in configs:
             for spp in spps:
-                out = os.path.join(cache, f"out_{scene}_{name}_{spp}.pfm")
-                best, segs = run(binary, ["--scene-file", sfile, "--seed", "42", "-s", str(spp), "-o", out,
-                                          "--stats", out + ".json"] + opts + size)
-                with open(out + ".json") as f:
-                    mean_spp = json.load(f).get("adaptive", {}).get("mean_samples_per_pixel", spp)
-                img = read_pfm(out)[2]
-                e = max(mse(img, ref) - ref_mse, 1e-30)
-                eb = max(mse(block_means(w, h, img), ref_blocks) - ref_block_mse, 1e-30)
-                means = channel_means(img)
-                d = " ".join(f"{m - r:+.5f}" for m, r in zip(means, ref_means))
-                print(f"{name:<10} {spp:>5} {mean_spp:>8.1f} {segs:>11} {segs / (w * h * mean_spp):>10.3f} {best:>8.3f} "
-                      f"{math.sqrt(e):>8.5f} {math.sqrt(eb):>9.5f} {d:>26}")
-                points.setdefault(name, []).append((spp, e, segs))
+                mean_spp, segs, e, ed, eb, d = results[name, spp]
+                print(f"{name:<10} {spp:>5} {mean_spp:>8.1f} {segs:>11} {segs / (w * h * mean_spp):>10.3f} "
+                      f"{walls[name, spp]:>7.3f} {math.sqrt(ed):>8.4f} {math.sqrt(e):>8.5f} {math.sqrt(eb):>9.5f} "
+                      f"{d:>26}")
+                points.setdefault(name, []).append((spp, segs, walls[name, spp], {"display": ed, "linear": e}))
         # cost per ray segment: the fastest of R interleaved renders of each
-        cost = {name: float("inf") for name, _, _ in CONFIGS}
+        cost = {name: float("inf") for name, _, _ in configs}
         for _ in range(o.rounds):
-            for name, opts, _ in CONFIGS:
+            for name, opts, _ in configs:
                 wall, segs = run(binary, ["--scene-file", sfile, "--seed", "7", "-s", "64", "-o",
                                           os.path.join(cache, "cost.pfm")] + opts + size)
                 cost[name] = min(cost[name], wall / segs)
         print("cost per ray segment (ns): " +
               ", ".join(f"{n} {cost[n] * 1e9:.2f} ({cost[n] / cost['random']:.3f}x)" for n in cost))
         t_name, t_spp = TARGET
-        target = next(p[1] for p in points[t_name] if p[0] == t_spp)
-        t_segs = next(p[2] for p in points[t_name] if p[0] == t_spp)
-        t_time = t_segs * cost[t_name]
-        print(f"to the RMSE of {t_name} at {t_spp} spp ({math.sqrt(target):.5f}): ", end="")
-        parts = []
-        for name, _, _ in CONFIGS:
-            n, mark = time_to([(p[0], p[1]) for p in points[name]], target)
-            s, smark = time_to([(p[2], p[1]) for p in points[name]], target)
-            t = s * cost[name]
-            parts.append(f"{name} {mark}{n:.0f} spp, {smark}{t:.2f} s ({smark}{t / t_time:.2f}x time, "
-                         f"{smark}{s / t_segs:.2f}x segments)")
-            summary.append((scene, name, t / t_time, s / t_segs, smark))
-        print(", ".join(parts))
-    print("\n## summary: time and ray segments to the RMSE of random at 500 spp, relative to random")
-    for scene, name, rt, rs, mark in summary:
-        print(f"{scene:<10} {name:<10} {mark}{rt:.2f}x time  {mark}{rs:.2f}x segments")
+        base = next(p for p in points[t_name] if p[0] == t_spp)
+        for space in ("display", "linear"):
+            target = base[3][space]
+            print(f"to the {space} RMSE of {t_name} at {t_spp} spp ({math.sqrt(target):.5g}):")
+            for name, _, _ in configs:
+                pts = points[name]
+                n, mark = time_to([(p[0], p[3][space]) for p in pts], target)
+                t, tmark = time_to([(p[2], p[3][space]) for p in pts], target)
+                s, smark = time_to([(p[1], p[3][space]) for p in pts], target)
+                est = s * cost[name] / (base[1] * cost[t_name])
+                paired = ""
+                if space == "display" and name != t_name and not mark and n == n:
+                    ratios = paired_walls(binary, sfile, size, configs, name, math.ceil(n), o.rounds)
+                    paired = f"  paired wall {ratios[len(ratios) // 2]:.2f}x ({ratios[0]:.2f}-{ratios[-1]:.2f})"
+                print(f"  {name:<10} {mark}{n:6.0f} spp  wall {tmark}{t / base[2]:.2f}x  "
+                      f"estimate {smark}{est:.2f}x  segments {smark}{s / base[1]:.2f}x{paired}")
+                summary.append((scene, space, name, t / base[2], est, s / base[1], tmark + smark, paired))
+    print("\n## summary: time and ray segments to the error of random at 500 spp, relative to random")
+    print(f"{'scene':<10} {'space':<8} {'config':<10} {'wall':>6} {'estimate':>9} {'segments':>9}")
+    for scene, space, name, rt, re, rs, mark, paired in summary:
+        print(f"{scene:<10} {space:<8} {name:<10} {rt:>5.2f}x {re:>8.2f}x {rs:>8.2f}x {mark}{paired}")
 
 
 if __name__ == "__main__":

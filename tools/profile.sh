@@ -14,13 +14,14 @@
 # and prints instructions per ray segment: in the intersector (per query)
 # and in everything else of the render (camera, shading, sampling, RNG).
 # The full profile stays in $PROFILE_BUILD_DIR/callgrind.out for
-# callgrind_annotate.
+# callgrind_annotate. PROFILE_CFLAGS adds compiler flags, e.g.
+# PROFILE_CFLAGS=-march=x86-64-v3 (AVX2; a build dir of its own).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=${PROFILE_BUILD_DIR:-$ROOT/build-profile}
 mkdir -p "$BUILD"
 RT_EXTRA_PACKAGES="valgrind python3" RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup.sh" "$BUILD" -DRT_LTO=OFF \
-    -DRT_MPI=OFF -DBUILD_TESTING=OFF -DCMAKE_C_FLAGS=-g >/dev/null 2>"$BUILD/setup.log" ||
+    -DRT_MPI=OFF -DBUILD_TESTING=OFF "-DCMAKE_C_FLAGS=-g ${PROFILE_CFLAGS:-}" >/dev/null 2>"$BUILD/setup.log" ||
     { cat "$BUILD/setup.log" >&2; exit 2; }
 OUT=$BUILD/callgrind.out
 OPTS=(--width 150 --height 100 -s 8 -j 1 "$@")
@@ -51,7 +52,7 @@ segs = stats["ray_segments"]
 # in packets (render.h, rt_render_in_packet) and the AVX traversal for the
 # others; every other path loop calls rt_accel_closest, once per segment.
 present = lambda fn: re.search(own_line(fn), text, re.M) is not None
-# the render: rank 0 renders its units as one stream (render.c); the
+# the render: rank 0 renders its units as one stream (team.c); the
 # commits of finished units (farm.c's local_done) are not part of it
 render = inclusive("rt_render_stream") - (inclusive("local_done") if present("local_done") else 0)
 # Camera rays whose tile has a candidate list (primary.h: our BVH only) go

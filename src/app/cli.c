@@ -85,7 +85,7 @@ const char *rt_cli_usage(void)
            "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
            "      --max-depth <DEPTH>  Maximum ray segments per path [default: 50]\n"
            "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
-           "      --sampler <NAME>     sobol (Owen-scrambled Sobol points: less noise for the same\n"
+           "      --sampler <NAME>     sobol (scrambled Sobol points: less noise for the same\n"
            "                           samples) or random (independent random numbers: the images\n"
            "                           of sampling version 2) [default: sobol]\n"
            "      --roulette           Russian roulette (unbiased) of dim paths after 3 bounces\n"

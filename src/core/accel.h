@@ -44,7 +44,7 @@ int rt_accel_parse(const char *name);
 const char *rt_accel_box_test(const rt_accel *a);
 /* Our BVH inside a when a runs it with the AVX box test (the bvh kind on a
  * CPU with AVX), else NULL: for code compiled for AVX that calls
- * rt_bvh_closest_avx itself (render.c's path loop). */
+ * rt_bvh_closest_avx itself (path.h's path loop). */
 const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);

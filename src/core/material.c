@@ -55,11 +55,11 @@ int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface
     case RT_MAT_LAMBERTIAN: {
         rt_vec3 dir;
         if (model == RT_DIFFUSE_HEMISPHERE)
-            dir = rt_sampler_in_hemisphere(smp, rec->normal);
+            dir = rt_sampler_hemisphere(smp, rec->normal);
         else if (model == RT_DIFFUSE_SPHERE)
-            dir = rt_v3_add(rec->normal, rt_sampler_in_unit_sphere(smp));
+            dir = rt_v3_add(rec->normal, rt_sampler_ball(smp));
         else
-            dir = rt_v3_add(rec->normal, rt_sampler_unit_vector(smp));
+            dir = rt_warp_cosine(rt_sampler_get2d(smp), rec->normal);
         if (rt_v3_near_zero(dir))
             dir = rec->normal;
         scattered->dir = dir;
@@ -69,7 +69,7 @@ int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface
     case RT_MAT_METAL: {
         rt_vec3 reflected = rt_v3_reflect(rt_v3_unit(in->dir), rec->normal);
         if (m->fuzz > 0.0)
-            reflected = rt_v3_add(reflected, rt_v3_scale(rt_sampler_in_unit_sphere(smp), m->fuzz));
+            reflected = rt_v3_add(reflected, rt_v3_scale(rt_sampler_ball(smp), m->fuzz));
         scattered->dir = reflected;
         *attenuation = m->albedo;
         return rt_v3_dot(reflected, rec->normal) > 0.0;
@@ -80,7 +80,7 @@ int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface
         double cos_theta = fmin(-rt_v3_dot(ud, rec->normal), 1.0);
         double sin_theta = sqrt(1.0 - cos_theta * cos_theta);
         int cannot_refract = ratio * sin_theta > 1.0;
-        if (cannot_refract || rt_material_reflectance(cos_theta, ratio) > rt_sampler_choice(smp))
+        if (cannot_refract || rt_material_reflectance(cos_theta, ratio) > rt_sampler_get1d(smp))
             scattered->dir = rt_v3_reflect(ud, rec->normal);
         else
             scattered->dir = refract(ud, rec->normal, ratio, cos_theta);

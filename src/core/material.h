@@ -29,8 +29,8 @@ typedef struct rt_surface {
 void rt_surface_from_sphere(rt_surface *rec, const rt_sphere *sp, const rt_ray *ray, double t);
 
 /* Returns 1 and fills attenuation/scattered when the ray scatters, 0 when it
- * is absorbed. Draws its numbers from smp (the current bounce's, for Sobol:
- * rt_sampler_bounce). */
+ * is absorbed. Asks smp for its numbers, after rt_sampler_bounce (which
+ * ones: sampler.h's table). */
 int rt_material_scatter(const rt_material *m, const rt_ray *in, const rt_surface *rec, rt_diffuse model,
                         rt_sampler *smp, rt_vec3 *attenuation, rt_ray *scattered);
 

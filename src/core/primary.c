@@ -53,7 +53,7 @@ static int by_lo(const void *pa, const void *pb)
 
 typedef struct frame {
     rt_vec3 o, ll, h, v;
-    double dw, dh; /* the divisors of the pixel coordinates (render.c's camera_ray) */
+    double dw, dh; /* the divisors of the pixel coordinates (path.h's path_start) */
     uint32_t width, height;
 } frame;
 

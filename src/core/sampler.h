@@ -1,26 +1,50 @@
-/* sampler.h - the numbers a sample draws, keyed only by (seed, pixel, sample
- * index, dimension), so any sample of any pixel comes out the same on any
- * thread, rank, band or pass.
+/* sampler.h - the numbers a sample draws: an interface of dimensions, keyed
+ * only by (seed, pixel, sample index, dimension), so any sample of any
+ * pixel comes out the same on any thread, rank, band or pass.
  *
- * Two samplers:
- * - RT_SAMPLER_RANDOM: the sample's splitmix64 stream (rng.h), drawn from in
- *   path order as the book does; sampling version 2's numbers, bit for bit.
- * - RT_SAMPLER_SOBOL: a padded, Owen-scrambled Sobol sampler. The dimensions
- *   come in pairs, each pair a 2D (0,2)-sequence (Sobol's first two
- *   dimensions) whose sample index is shuffled and whose coordinates are
- *   scrambled by hashes of (pixel key, pair): independent from pair to pair
- *   and pixel to pixel, and with no table to run out of, so a path may be
- *   any number of bounces deep. The index shuffle and the scrambles are
- *   nested (Owen) scrambles, so the first 2^k samples of a pixel (and every
- *   aligned block of 2^k) put exactly one point in each elementary interval
- *   of area 2^-k of every pair: a pixel stopped after 16, 32, 64, ...
- *   samples (adaptive sampling) is as well stratified as a full one.
+ * A sample asks its sampler for numbers, one request after the other:
+ * rt_sampler_pixel2d first (the position in the pixel), then
+ * rt_sampler_get2d and rt_sampler_get1d as the path needs them (warp.h
+ * turns them into points), and rt_sampler_bounce before each bounce's.
+ * Which dimension a request gets follows from their order, laid down here
+ * and nowhere else:
  *
- * Layout of a Sobol sample's pairs: 0 the position in the pixel, 1 the lens,
- * then two per bounce: 2 + 2d the scattered direction at depth d, 3 + 2d a
- * material's third number (.x: a ball point's radius, the dielectric's
- * choice) and the Russian roulette (.y). Fixed slots, so a bounce's numbers
- * do not depend on which materials came before.
+ *   dimensions        request                      asked by
+ *   0-1               2D the position in the pixel  path.h, path_start
+ *   2-3               2D the lens (a camera with an aperture; else unused)
+ *   4 + 4d ... 7 + 4d the bounce at depth d (rt_sampler_bounce(d)):
+ *                     the material's numbers      material.c
+ *                       lambertian: 2D direction
+ *                       sphere/hemisphere diffuse, fuzzy metal: 2D
+ *                         direction, 1D radius (ball)
+ *                       dielectric: 1D reflect or refract
+ *                     then 1D the Russian roulette path.h, path_roulette
+ *
+ * A 2D request takes the next even dimension and the one after it, a 1D
+ * request the next dimension. Each bounce starts at its own dimension, so
+ * its numbers do not depend on the materials before it. A new feature
+ * (a ray's time, a light's choice and a point on it, a distance in a
+ * medium) adds its requests to this table, raises RT_SAMPLER_BOUNCE_DIMS
+ * if a bounce needs more, and is a new sampling version (render.h).
+ *
+ * The kind is chosen once per job (rt_job.sampler); every request does the
+ * same for every sample of the job:
+ * - RT_SAMPLER_RANDOM: the sample's splitmix64 stream (rng.h), drawn from
+ *   in request order as the book does, dimensions ignored: sampling
+ *   version 2's numbers, bit for bit. Its ball and disk are the book's
+ *   rejection draws (sample.h), whose count of numbers varies.
+ * - RT_SAMPLER_SOBOL: padded Sobol points. Dimensions 2k and 2k + 1 are
+ *   pair k, a 2D (0,2)-sequence (Sobol's first two dimensions) whose
+ *   sample index is shuffled, and whose coordinates are shifted, by hashes
+ *   of (pixel key, pair): independent from pair to pair and pixel to
+ *   pixel, with no table to run out of. The shuffle is a nested (Owen)
+ *   scramble of the index's bits from the highest down, so the first 2^k
+ *   samples of a pixel (and every aligned block of 2^k) take an aligned
+ *   block of the sequence, a (0,k,2)-net: exactly one point in each
+ *   elementary interval of area 2^-k of every pair, and a pixel stopped
+ *   after 16, 32, 64, ... samples (adaptive sampling) is as well
+ *   stratified as a full one. The coordinates' random digital shifts keep
+ *   that; each point is uniform.
  *
  * All integer arithmetic and exact int->double conversions: the same bits
  * on every machine. */
@@ -33,6 +57,7 @@
 #include "rng.h"
 #include "sample.h"
 #include "vec.h"
+#include "warp.h"
 
 typedef enum rt_sampler_kind {
     RT_SAMPLER_RANDOM = 0,
@@ -49,22 +74,11 @@ static inline int rt_sampler_parse(const char *name)
     return !strcmp(name, "random") ? RT_SAMPLER_RANDOM : !strcmp(name, "sobol") ? RT_SAMPLER_SOBOL : -1;
 }
 
-/* Sample indices the Sobol sampler shuffles among: at least RT_MAX_SAMPLES
- * (render.h checks). */
-#define RT_SAMPLER_INDEX_BITS 20
-
-/* Pairs of the layout above. */
-#define RT_SAMPLER_PAIR_PIXEL 0u
-#define RT_SAMPLER_PAIR_LENS 1u
-#define RT_SAMPLER_PAIR_BOUNCE 2u
-
-typedef struct rt_sampler {
-    rt_rng rng;         /* random: the sample's stream */
-    uint64_t key;       /* sobol: the pixel's key (rt_rng_pixel_key) */
-    uint32_t rev_index; /* sobol: the sample's index in its pixel, bit-reversed */
-    uint32_t pair;      /* sobol: the current bounce's first pair */
-    int kind;           /* rt_sampler_kind */
-} rt_sampler;
+/* The table above. */
+#define RT_SAMPLER_DIM_PIXEL 0u
+#define RT_SAMPLER_DIM_LENS 2u
+#define RT_SAMPLER_DIM_BOUNCE 4u
+#define RT_SAMPLER_BOUNCE_DIMS 4u
 
 /* ---- the Sobol pieces ----------------------------------------------------- */
 
@@ -81,213 +95,214 @@ static inline uint32_t rt_sampler_reverse(uint32_t x)
  * step keeps that form (adding, multiplying by an odd number, xoring with a
  * multiple by an even number: carries only move upward), so whatever the
  * constants, the result is a bijection that maps each set of numbers equal
- * in their low k bits onto such a set. Applied to a bit-reversed fraction
- * it is an Owen scramble: each digit flipped by a hash of the digits above
- * it. The seed enters at three places so that no bit's flip is a plain
- * function of the seed's low bits. Measured against a true Owen scramble
- * (a 64-bit hash of the digits above, for every digit): the same error on
- * the final, materials and defocus scenes at 64 and 256 spp (within 5 %,
- * either way), at a twentieth of the cost. */
+ * in their low k bits onto such a set. Applied to a bit-reversed index it
+ * shuffles the index from its highest bit down. Two multiplications, where
+ * sampling version 3 had three: the same errors on the final, materials
+ * and defocus scenes (docs/SAMPLING.md), and the within-pixel independence
+ * test (test_sampler.c) passes. */
 static inline uint32_t rt_sampler_nested(uint32_t x, uint32_t seed)
 {
     x += seed;
     x ^= x * 0x3c6ef372u;
     x *= seed | 1u;
     x ^= x * 0xa54ff53au;
-    x += seed >> 16 | seed << 16;
-    x ^= x * 0x510e527eu;
     return x;
 }
 
-/* Sobol's second dimension of index i, bit-reversed. Its generator matrix
- * is Pascal's triangle mod 2 (primitive polynomial x + 1): index bit j
- * flips fraction digit k when the binomial C(j, k) is odd, which by Lucas'
- * theorem is when k's bits are a subset of j's. So digit k is the parity
- * of i's bits j that are supersets of k: a superset-sum transform over the
- * five bits of the position, five shifts. (The first dimension is the van
- * der Corput sequence: reversed, i itself.) */
-static inline uint32_t rt_sampler_sobol1_reversed(uint32_t i)
+/* Sobol's second dimension as a 32-bit fraction, from the first's (the van
+ * der Corput fraction v, the index bit-reversed). Its generator matrix is
+ * Pascal's triangle mod 2 (primitive polynomial x + 1): index bit j flips
+ * fraction digit k when C(j, k) is odd, which by Lucas' theorem is when k's
+ * bits are a subset of j's. Counted from the fraction's lowest bit (bit
+ * 31 - j of v is index bit j), bit m of the result is the parity of v's
+ * bits m' whose bits are a subset of m's: a subset-sum transform over the
+ * five bits of the position, five shifts, no reversal. */
+static inline uint32_t rt_sampler_sobol1(uint32_t v)
 {
-    i ^= (i >> 1) & 0x55555555u;
-    i ^= (i >> 2) & 0x33333333u;
-    i ^= (i >> 4) & 0x0f0f0f0fu;
-    i ^= (i >> 8) & 0x00ff00ffu;
-    i ^= (i >> 16) & 0x0000ffffu;
-    return i;
+    v ^= (v << 1) & 0xaaaaaaaau;
+    v ^= (v << 2) & 0xccccccccu;
+    v ^= (v << 4) & 0xf0f0f0f0u;
+    v ^= (v << 8) & 0xff00ff00u;
+    v ^= v << 16;
+    return v;
 }
 
-/* Hash of (pixel key, pair): the pair's index shuffle and scrambles. */
+/* Hash of (pixel key, pair): the pair's index shuffle and shifts. */
 static inline uint64_t rt_sampler_pair_hash(uint64_t key, uint32_t pair)
 {
     return rt_rng_mix(key ^ (((uint64_t)pair + 1) * UINT64_C(0x9fb21c651e98df25)));
 }
 
-/* The sample index (given bit-reversed) shuffled by a nested scramble of
- * its bits from the highest down, within [0, 2^INDEX_BITS): aligned blocks
- * of 2^k indices map onto aligned blocks, which the (0,2)-sequence fills as
- * nets. */
-static inline uint32_t rt_sampler_shuffle(uint32_t rev_index, uint64_t h)
+/* The shuffle seed and the shifts of a pair, from its hash. */
+static inline void rt_sampler_pair_keys(uint64_t key, uint32_t pair, uint32_t *seed, uint64_t *shift)
 {
-    return rt_sampler_reverse(rt_sampler_nested(rev_index, (uint32_t)h)) & ((1u << RT_SAMPLER_INDEX_BITS) - 1u);
+    const uint64_t h = rt_sampler_pair_hash(key, pair);
+    *seed = (uint32_t)h;
+    *shift = (h & UINT64_C(0xffffffff00000000)) | (h * UINT64_C(0xd1b54a32d192ed03)) >> 32;
 }
 
-/* Coordinate c of the pair's point for shuffled index s (hash h), Owen
- * scrambled, bit-reversed. Each coordinate's scramble seed comes from all
- * 64 bits of h. */
-static inline uint32_t rt_sampler_coord_reversed(uint32_t s, uint64_t h, int c)
+/* A pair's point, .x << 32 | .y (32-bit fractions), for the sample whose
+ * index, bit-reversed and shuffled (rt_sampler_nested with the pair's
+ * seed; pair 0 keeps the index's order, the others are shuffled against
+ * it), is v: v is the van der Corput fraction of the shuffled index, the
+ * first coordinate with no reversal back; each coordinate then takes a
+ * random digital shift (xor) of its own. */
+static inline uint64_t rt_sampler_point(uint32_t v, uint64_t shift)
 {
-    if (!c)
-        return rt_sampler_nested(s, (uint32_t)(h >> 32));
-    uint32_t seed = (uint32_t)((h * UINT64_C(0xd1b54a32d192ed03)) >> 32);
-    return rt_sampler_nested(rt_sampler_sobol1_reversed(s), seed);
+    return ((uint64_t)v << 32 | rt_sampler_sobol1(v)) ^ shift;
 }
 
-/* Both halves of x reversed, and swapped: one reversal for a pair. */
-static inline uint64_t rt_sampler_reverse64(uint64_t x)
+/* Pair `pair` of the sample whose index, bit-reversed, is rev_index, of the
+ * pixel whose key is key (the definition; rt_sampler_get2d keeps the first
+ * pairs' seeds and shifts for a pixel's samples). */
+static inline uint64_t rt_sampler_sobol_pair(uint64_t key, uint32_t rev_index, uint32_t pair)
 {
-    x = __builtin_bswap64(x);
-    x = ((x >> 4) & UINT64_C(0x0f0f0f0f0f0f0f0f)) | ((x & UINT64_C(0x0f0f0f0f0f0f0f0f)) << 4);
-    x = ((x >> 2) & UINT64_C(0x3333333333333333)) | ((x & UINT64_C(0x3333333333333333)) << 2);
-    return ((x >> 1) & UINT64_C(0x5555555555555555)) | ((x & UINT64_C(0x5555555555555555)) << 1);
+    uint32_t seed;
+    uint64_t shift;
+    rt_sampler_pair_keys(key, pair, &seed, &shift);
+    return rt_sampler_point(pair ? rt_sampler_nested(rev_index, seed) : rev_index, shift);
 }
 
-/* Coordinate c (0 or 1) of pair `pair` of sample `index` of the pixel whose
- * key is key, as a 32-bit fraction. */
-static inline uint32_t rt_sampler_sobol_u32(uint64_t key, uint32_t index, uint32_t pair, int c)
+/* ---- a pixel's sampler, a sample's sampler: the interface ----------------- */
+
+/* Pairs whose seed and shift a pixel keeps for its samples: the position,
+ * the lens, the first bounce's two and the second bounce's first. Each
+ * costs a hash per pixel instead of one per sample. */
+#define RT_SAMPLER_KEPT 5u
+
+/* What a pixel's samples share: the kind, chosen once; the pixel's key;
+ * for Sobol the kept pairs' seeds and shifts. */
+typedef struct rt_sampler_pixel {
+    int kind;     /* rt_sampler_kind */
+    uint64_t key; /* rt_rng_pixel_key */
+    uint32_t seed[RT_SAMPLER_KEPT];
+    uint64_t shift[RT_SAMPLER_KEPT];
+} rt_sampler_pixel;
+
+typedef struct rt_sampler {
+    rt_rng rng;                 /* random: the sample's stream */
+    const rt_sampler_pixel *px; /* sobol: its pixel's */
+    uint32_t rev_index;         /* sobol: the sample's index in its pixel, bit-reversed */
+    uint32_t dim;               /* sobol: the next request's dimension */
+    int kind;                   /* rt_sampler_kind */
+} rt_sampler;
+
+/* The sampler of the pixel whose key is key (rt_rng_pixel_key). */
+static inline void rt_sampler_for_pixel(rt_sampler_pixel *px, int kind, uint64_t key)
 {
-    uint64_t h = rt_sampler_pair_hash(key, pair);
-    return rt_sampler_reverse(rt_sampler_coord_reversed(rt_sampler_shuffle(rt_sampler_reverse(index), h), h, c));
+    px->kind = kind;
+    px->key = key;
+    if (kind == RT_SAMPLER_SOBOL)
+        for (uint32_t k = 0; k < RT_SAMPLER_KEPT; k++)
+            rt_sampler_pair_keys(key, k, &px->seed[k], &px->shift[k]);
 }
 
-/* A 32-bit fraction as a double in (0, 1): the middle of its interval. */
-static inline double rt_sampler_unit(uint32_t v)
-{
-    return ((double)v + 0.5) * 0x1.0p-32;
-}
-
-/* ---- a sample's sampler ---------------------------------------------------- */
-
-/* The sampler of sample `sample` of the pixel whose key is pixel_key. */
-static inline rt_sampler rt_sampler_start(int kind, uint64_t pixel_key, uint32_t sample)
+/* The sampler of sample `sample` of px's pixel (px must outlive it). */
+static inline rt_sampler rt_sampler_start(const rt_sampler_pixel *px, uint32_t sample)
 {
     rt_sampler s;
     s.rng.state = 0;
-    if (kind == RT_SAMPLER_RANDOM)
-        s.rng = rt_rng_for_pixel_sample(pixel_key, sample);
-    s.key = pixel_key;
-    s.rev_index = kind == RT_SAMPLER_RANDOM ? 0 : rt_sampler_reverse(sample);
-    s.pair = RT_SAMPLER_PAIR_BOUNCE;
-    s.kind = kind;
+    if (px->kind == RT_SAMPLER_RANDOM)
+        s.rng = rt_rng_for_pixel_sample(px->key, sample);
+    s.px = px;
+    s.rev_index = px->kind == RT_SAMPLER_RANDOM ? 0 : rt_sampler_reverse(sample);
+    s.dim = RT_SAMPLER_DIM_PIXEL;
+    s.kind = px->kind;
     return s;
 }
 
 /* A random sampler drawing from r (tests and tools). */
 static inline rt_sampler rt_sampler_from_rng(rt_rng r)
 {
-    rt_sampler s = rt_sampler_start(RT_SAMPLER_RANDOM, 0, 0);
-    s.rng = r;
+    rt_sampler s = {r, NULL, 0, 0, RT_SAMPLER_RANDOM};
     return s;
 }
 
-/* The next numbers are for the bounce at depth (where the segment at depth
+/* Pair `pair` of s's sample. */
+static inline uint64_t rt_sampler_pair(const rt_sampler *s, uint32_t pair)
+{
+    if (pair == 0)
+        return rt_sampler_point(s->rev_index, s->px->shift[0]);
+    if (pair < RT_SAMPLER_KEPT)
+        return rt_sampler_point(rt_sampler_nested(s->rev_index, s->px->seed[pair]), s->px->shift[pair]);
+    return rt_sampler_sobol_pair(s->px->key, s->rev_index, pair);
+}
+
+/* The next requests are the bounce's at depth (where the segment at depth
  * ends). */
 static inline void rt_sampler_bounce(rt_sampler *s, uint32_t depth)
 {
-    s->pair = RT_SAMPLER_PAIR_BOUNCE + 2u * depth;
+    s->dim = RT_SAMPLER_DIM_BOUNCE + RT_SAMPLER_BOUNCE_DIMS * depth;
 }
 
-static inline uint32_t sampler_coord(const rt_sampler *s, uint32_t pair, int c)
+/* The next 2D number: .x << 32 | .y, two 32-bit fractions (warp.h). */
+static inline uint64_t rt_sampler_get2d(rt_sampler *s)
 {
-    uint64_t h = rt_sampler_pair_hash(s->key, pair);
-    return rt_sampler_reverse(rt_sampler_coord_reversed(rt_sampler_shuffle(s->rev_index, h), h, c));
+    if (s->kind == RT_SAMPLER_RANDOM)
+        return rt_rng_next(&s->rng);
+    const uint32_t pair = (s->dim + 1u) >> 1;
+    s->dim = 2u * pair + 2u;
+    return rt_sampler_pair(s, pair);
 }
 
-/* Both coordinates of a pair, as .x << 32 | .y (one hash, one shuffle and
- * one reversal for the two). */
-static inline uint64_t sampler_pair64(const rt_sampler *s, uint32_t pair)
+/* The first coordinate of pair `pair` of s's sample (its .x), without
+ * Sobol's second dimension: what a 1D request at an even dimension needs. */
+static inline uint32_t rt_sampler_first(const rt_sampler *s, uint32_t pair)
 {
-    uint64_t h = rt_sampler_pair_hash(s->key, pair);
-    uint32_t i = rt_sampler_shuffle(s->rev_index, h);
-    return rt_sampler_reverse64((uint64_t)rt_sampler_coord_reversed(i, h, 1) << 32 | rt_sampler_coord_reversed(i, h, 0));
+    if (pair < RT_SAMPLER_KEPT)
+        return (pair ? rt_sampler_nested(s->rev_index, s->px->seed[pair]) : s->rev_index) ^
+               (uint32_t)(s->px->shift[pair] >> 32);
+    const uint64_t h = rt_sampler_pair_hash(s->px->key, pair); /* rt_sampler_pair_keys' */
+    return rt_sampler_nested(s->rev_index, (uint32_t)h) ^ (uint32_t)(h >> 32);
 }
 
-static inline void sampler_pair(const rt_sampler *s, uint32_t pair, uint32_t *a, uint32_t *b)
+/* The next 1D number, in (0, 1) ([0, 1) for random). */
+static inline double rt_sampler_get1d(rt_sampler *s)
 {
-    uint64_t v = sampler_pair64(s, pair);
-    *a = (uint32_t)(v >> 32);
-    *b = (uint32_t)v;
+    if (s->kind == RT_SAMPLER_RANDOM)
+        return rt_rng_double(&s->rng);
+    const uint32_t d = s->dim++;
+    return rt_warp_unit(d & 1u ? (uint32_t)rt_sampler_pair(s, d >> 1) : rt_sampler_first(s, d >> 1));
 }
 
-/* The position in the pixel, two numbers in [0, 1). */
-static inline void rt_sampler_pixel(rt_sampler *s, double *du, double *dv)
+/* The position in the pixel (the first request), two numbers in [0, 1). */
+static inline void rt_sampler_pixel2d(rt_sampler *s, double *du, double *dv)
 {
     if (s->kind == RT_SAMPLER_RANDOM) {
         *du = rt_rng_double(&s->rng);
         *dv = rt_rng_double(&s->rng);
         return;
     }
-    uint32_t a, b;
-    sampler_pair(s, RT_SAMPLER_PAIR_PIXEL, &a, &b);
-    *du = rt_sampler_unit(a);
-    *dv = rt_sampler_unit(b);
+    const uint64_t v = rt_sampler_get2d(s);
+    *du = rt_warp_unit((uint32_t)(v >> 32));
+    *dv = rt_warp_unit((uint32_t)v);
 }
 
-/* A point in the unit disk (z = 0): for Sobol by polar coordinates, radius
- * sqrt(u), which keeps the pair's strata as equal-area sectors of rings. */
-static inline rt_vec3 rt_sampler_disk(rt_sampler *s)
+/* A point in the unit disk (z = 0) for the lens, dimensions 2-3. */
+static inline rt_vec3 rt_sampler_lens(rt_sampler *s)
 {
     if (s->kind == RT_SAMPLER_RANDOM)
         return rt_sample_in_unit_disk(&s->rng);
-    uint32_t a, b;
-    sampler_pair(s, RT_SAMPLER_PAIR_LENS, &a, &b);
-    double r = sqrt(rt_sampler_unit(a)), c, sn;
-    rt_sample_cos_sin_turn(b, &c, &sn);
-    return rt_v3(r * c, r * sn, 0.0);
+    s->dim = RT_SAMPLER_DIM_LENS;
+    return rt_warp_disk(rt_sampler_get2d(s));
 }
 
-/* A uniform direction on the unit sphere: the bounce's first pair through
- * the same map as the random sampler's (rt_sample_unit_vector_bits). */
-static inline rt_vec3 rt_sampler_unit_vector(rt_sampler *s)
-{
-    if (s->kind == RT_SAMPLER_RANDOM)
-        return rt_sample_unit_vector(&s->rng);
-    return rt_sample_unit_vector_bits(sampler_pair64(s, s->pair));
-}
-
-/* A uniform point inside the unit ball: for Sobol a direction (first pair)
- * at radius cbrt(u) (u: the second pair's .x). */
-static inline rt_vec3 rt_sampler_in_unit_sphere(rt_sampler *s)
+/* A uniform point inside the unit ball: a 2D direction and a 1D radius. */
+static inline rt_vec3 rt_sampler_ball(rt_sampler *s)
 {
     if (s->kind == RT_SAMPLER_RANDOM)
         return rt_sample_in_unit_sphere(&s->rng);
-    rt_vec3 d = rt_sampler_unit_vector(s);
-    return rt_v3_scale(d, rt_sample_cbrt(rt_sampler_unit(sampler_coord(s, s->pair + 1u, 0))));
+    const uint64_t u = rt_sampler_get2d(s);
+    return rt_warp_ball(u, rt_sampler_get1d(s));
 }
 
-/* A uniform direction in the hemisphere around n. */
-static inline rt_vec3 rt_sampler_in_hemisphere(rt_sampler *s, rt_vec3 n)
+/* A uniform direction in the hemisphere around n: 2D (random: a ball point
+ * flipped to n's side, the book's third model, not of unit length). */
+static inline rt_vec3 rt_sampler_hemisphere(rt_sampler *s, rt_vec3 n)
 {
     if (s->kind == RT_SAMPLER_RANDOM)
         return rt_sample_in_hemisphere(&s->rng, n);
-    rt_vec3 p = rt_sampler_unit_vector(s);
-    return rt_v3_dot(p, n) > 0.0 ? p : rt_v3_neg(p);
-}
-
-/* A number in [0, 1) for a material's choice (the second pair's .x). */
-static inline double rt_sampler_choice(rt_sampler *s)
-{
-    if (s->kind == RT_SAMPLER_RANDOM)
-        return rt_rng_double(&s->rng);
-    return rt_sampler_unit(sampler_coord(s, s->pair + 1u, 0));
-}
-
-/* A number in [0, 1) for the Russian roulette after this bounce (the
- * second pair's .y). */
-static inline double rt_sampler_roulette(rt_sampler *s)
-{
-    if (s->kind == RT_SAMPLER_RANDOM)
-        return rt_rng_double(&s->rng);
-    return rt_sampler_unit(sampler_coord(s, s->pair + 1u, 1));
+    return rt_warp_hemisphere(rt_sampler_get2d(s), n);
 }
 
 #endif

@@ -55,7 +55,7 @@ static void check_room(void)
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     image im;
     /* no roulette: it could end a path on the glass or the mirror, which
-     * then gives that surface's albedo (render.c) */
+     * then gives that surface's albedo (path.h) */
     render(&im, &s, a, RT_AOV_ALBEDO | RT_AOV_NORMAL, 0, 0);
 
     CHECK_EQ_INT(im.r.lay.ch, 9);

@@ -56,11 +56,14 @@ static void diffuse_samples(rt_sampler_kind kind, rt_diffuse model, rt_vec3 nrm,
     rt_surface s = {rt_v3(0, 0, 0), nrm, 1.0, 1};
     rt_vec3 t1 = rt_v3_unit(rt_v3_cross(nrm, rt_v3(1, 0, 0))), t2 = rt_v3_cross(nrm, t1);
     rt_ray in = {rt_v3_add(nrm, rt_v3(0.3, 0, 0)), rt_v3_neg(nrm)};
+    rt_sampler_pixel px;
     for (long i = 0; i < n; i++) {
         rt_vec3 att;
         rt_ray out;
         if (kind == RT_SAMPLER_SOBOL) {
-            smp = rt_sampler_start(kind, rt_rng_pixel_key(model, (uint64_t)(i >> 10)), (uint32_t)(i & 1023));
+            if ((i & 1023) == 0)
+                rt_sampler_for_pixel(&px, kind, rt_rng_pixel_key(model, (uint64_t)(i >> 10)));
+            smp = rt_sampler_start(&px, (uint32_t)(i & 1023));
             rt_sampler_bounce(&smp, (uint32_t)(i >> 10) % 5);
         }
         rt_material_scatter(&m, &in, &s, model, &smp, &att, &out);

@@ -27,7 +27,7 @@ static void check_sobol1(void)
     int same = 1;
     uint32_t bad = 0;
     for (uint32_t i = 0; i < (1u << 16); i++) {
-        uint32_t want = sobol1_reference(i), got = rt_sampler_reverse(rt_sampler_sobol1_reversed(i));
+        uint32_t want = sobol1_reference(i), got = rt_sampler_sobol1(rt_sampler_reverse(i));
         if (want != got && same) {
             same = 0;
             bad = i;
@@ -36,6 +36,13 @@ static void check_sobol1(void)
     printf("Sobol dimension 2: %s for indices below 2^16\n", same ? "as the direction numbers give" : "WRONG");
     CHECK_EQ_INT(bad, 0);
     CHECK(same);
+}
+
+/* Coordinate c of pair `pair` of sample i of the pixel with key key. */
+static uint32_t sobol_u32(uint64_t key, uint32_t i, uint32_t pair, int c)
+{
+    uint64_t v = rt_sampler_sobol_pair(key, rt_sampler_reverse(i), pair);
+    return c ? (uint32_t)v : (uint32_t)(v >> 32);
 }
 
 /* Points [first, first + 2^k) of pair `pair` of the pixel with key key: one
@@ -48,7 +55,7 @@ static int net_failures(uint64_t key, uint32_t pair, uint32_t first, int k, int 
     for (int a = 0; a <= k; a++) { /* 2^a columns x 2^(k-a) rows */
         memset(cells, 0, n * sizeof *cells);
         for (uint32_t i = first; i < first + n; i++) {
-            uint64_t x = rt_sampler_sobol_u32(key, i, pair, 0), y = rt_sampler_sobol_u32(key, i, pair, 1);
+            uint64_t x = sobol_u32(key, i, pair, 0), y = sobol_u32(key, i, pair, 1);
             uint32_t col = (uint32_t)(x >> (32 - a)), row = (uint32_t)(y >> (32 - (k - a)));
             cells[col << (k - a) | row]++;
         }
@@ -79,7 +86,7 @@ static void check_stratification(void)
                 worst += bad;
             }
             /* a later aligned block: samples 3 * 2^8 .. 4 * 2^8, and
-             * 2^19 .. 2^19 + 2^10 (the top of the index range) */
+             * 2^19 .. 2^19 + 2^10 (the top of the samples' range) */
             worst += net_failures(key, pairs[p], 3u << 8, 8, cells);
             worst += net_failures(key, pairs[p], 1u << 19, 10, cells);
             shapes += 9 + 11;
@@ -90,7 +97,7 @@ static void check_stratification(void)
     free(cells);
 }
 
-static double uni(uint32_t v) { return rt_sampler_unit(v) - 0.5; }
+static double uni(uint32_t v) { return rt_warp_unit(v) - 0.5; }
 
 /* The same sample and pair in neighbouring pixels: uncorrelated, and
  * uniform (mean 1/2) at every sample index. */
@@ -101,7 +108,7 @@ static void check_across_pixels(void)
     for (long p = 0; p < NPIX; p++) {
         uint64_t k0 = rt_rng_pixel_key(5, (uint64_t)p), k1 = rt_rng_pixel_key(5, (uint64_t)p + 1);
         for (uint32_t i = 0; i < NS; i++) {
-            double x = uni(rt_sampler_sobol_u32(k0, i, 2, 0)), y = uni(rt_sampler_sobol_u32(k1, i, 2, 0));
+            double x = uni(sobol_u32(k0, i, 2, 0)), y = uni(sobol_u32(k1, i, 2, 0));
             sxy += x * y;
             sxx += x * x;
             syy += y * y;
@@ -132,7 +139,7 @@ static void within_pixel(uint32_t p, int cp, uint32_t q, int cq, uint32_t n, lon
         uint64_t key = rt_rng_pixel_key(9, (uint64_t)px);
         int agree = 0;
         for (uint32_t i = 0; i < n; i++)
-            agree += (rt_sampler_sobol_u32(key, i, p, cp) >> 31) == (rt_sampler_sobol_u32(key, i, q, cq) >> 31);
+            agree += (sobol_u32(key, i, p, cp) >> 31) == (sobol_u32(key, i, q, cq) >> 31);
         double d = 2.0 * agree / n - 1, d2 = d * d;
         s += d2;
         s2 += d2 * d2;
@@ -156,8 +163,46 @@ static void check_within_pixel(void)
     }
 }
 
+/* The interface's numbers are the definition's (rt_sampler_sobol_pair) at
+ * the dimensions sampler.h's table gives: a pixel keeps its first pairs'
+ * seeds and shifts (RT_SAMPLER_KEPT), the others are hashed per request,
+ * and both must give the same points. Requests as a path makes them: the
+ * position, the lens, then per bounce a 2D direction and two 1D numbers. */
+static void check_interface(void)
+{
+    int bad = 0;
+    long n = 0;
+    for (uint64_t pixel = 0; pixel < 4; pixel++) {
+        const uint64_t key = rt_rng_pixel_key(3, pixel);
+        rt_sampler_pixel px;
+        rt_sampler_for_pixel(&px, RT_SAMPLER_SOBOL, key);
+        for (uint32_t i = 0; i < 64; i += 7) {
+            const uint32_t rev = rt_sampler_reverse(i);
+            rt_sampler s = rt_sampler_start(&px, i);
+            double du, dv;
+            rt_sampler_pixel2d(&s, &du, &dv);
+            uint64_t want = rt_sampler_sobol_pair(key, rev, 0);
+            bad += du != rt_warp_unit((uint32_t)(want >> 32)) || dv != rt_warp_unit((uint32_t)want);
+            bad += rt_sampler_get2d(&s) != rt_sampler_sobol_pair(key, rev, RT_SAMPLER_DIM_LENS / 2);
+            n += 2;
+            for (uint32_t d = 0; d < 6; d++) {
+                rt_sampler_bounce(&s, d);
+                const uint32_t pair = (RT_SAMPLER_DIM_BOUNCE + RT_SAMPLER_BOUNCE_DIMS * d) / 2;
+                want = rt_sampler_sobol_pair(key, rev, pair + 1);
+                bad += rt_sampler_get2d(&s) != rt_sampler_sobol_pair(key, rev, pair);
+                bad += rt_sampler_get1d(&s) != rt_warp_unit((uint32_t)(want >> 32));
+                bad += rt_sampler_get1d(&s) != rt_warp_unit((uint32_t)want);
+                n += 3;
+            }
+        }
+    }
+    printf("interface: %d of %ld requests differ from the pairs' definition\n", bad, n);
+    CHECK_EQ_INT(bad, 0);
+}
+
 int main(void)
 {
+    check_interface();
     check_sobol1();
     check_stratification();
     check_across_pixels();

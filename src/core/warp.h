@@ -1,0 +1,59 @@
+/* warp.h - numbers in [0, 1) to points: the maps a sampler's 2D and 1D
+ * numbers (sampler.h) go through. A 2D number comes as two 32-bit
+ * fractions, .x << 32 | .y; a 1D number as a double. Only +,-,*,/ and
+ * sqrt: the same bits on every IEEE-754 machine (sample.h). Each keeps the
+ * strata of its numbers as strata of equal measure (areas, solid angles),
+ * so stratified numbers give stratified points. */
+#ifndef RT_WARP_H
+#define RT_WARP_H
+
+#include <stdint.h>
+
+#include "sample.h"
+#include "vec.h"
+
+/* A 32-bit fraction as a double in (0, 1): the middle of its interval. */
+static inline double rt_warp_unit(uint32_t v)
+{
+    return ((double)v + 0.5) * 0x1.0p-32;
+}
+
+/* A point in the unit disk (z = 0) by polar coordinates: radius sqrt(.x),
+ * angle .y turns; equal-area sectors of rings. */
+static inline rt_vec3 rt_warp_disk(uint64_t u)
+{
+    double r = sqrt(rt_warp_unit((uint32_t)(u >> 32))), c, s;
+    rt_sample_cos_sin_turn((uint32_t)u, &c, &s);
+    return rt_v3(r * c, r * s, 0.0);
+}
+
+/* A uniform direction on the unit sphere (Archimedes: z from .x, azimuth
+ * from .y). */
+static inline rt_vec3 rt_warp_sphere(uint64_t u)
+{
+    return rt_sample_unit_vector_bits(u);
+}
+
+/* A uniform point inside the unit ball: a direction at radius cbrt(r). */
+static inline rt_vec3 rt_warp_ball(uint64_t u, double r)
+{
+    return rt_v3_scale(rt_warp_sphere(u), rt_sample_cbrt(r));
+}
+
+/* A uniform direction in the hemisphere around n: the sphere's, flipped
+ * to n's side. */
+static inline rt_vec3 rt_warp_hemisphere(uint64_t u, rt_vec3 n)
+{
+    rt_vec3 p = rt_warp_sphere(u);
+    return rt_v3_dot(p, n) > 0.0 ? p : rt_v3_neg(p);
+}
+
+/* A cosine-weighted direction around n (Lambert's law): n plus a uniform
+ * direction, the book's construction; the zero vector when they cancel
+ * (the caller takes n then). */
+static inline rt_vec3 rt_warp_cosine(uint64_t u, rt_vec3 n)
+{
+    return rt_v3_add(n, rt_warp_sphere(u));
+}
+
+#endif
