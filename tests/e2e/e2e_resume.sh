@@ -99,6 +99,17 @@ expect_refusal 3 "existing checkpoint without --resume" "pass --resume" "$BIN" "
 # Samples of another sampler, or without the roulette, are not mixed in.
 expect_refusal 3 "checkpoint of another sampler" "different job (sampler 1" "$BIN" "${B[@]}" -s 2 --sampler random --resume
 expect_refusal 3 "checkpoint with the roulette" "different job (roulette 1" "$BIN" "${B[@]}" -s 2 --no-roulette --resume
+# The rest of the job's identity, one field at a time (test_checkpoint
+# covers the intersector, which only a build with Embree can change here).
+expect_refusal 3 "checkpoint of another width" "different job (width 160, this job has 161)" \
+    "$BIN" "${B[@]}" -s 2 --width 161 --resume
+expect_refusal 3 "checkpoint of another height" "different job (height 96, this job has 95)" \
+    "$BIN" "${B[@]}" -s 2 --height 95 --resume
+expect_refusal 3 "checkpoint of another max depth" "different job (max depth 50, this job has 5)" \
+    "$BIN" "${B[@]}" -s 2 --max-depth 5 --resume
+expect_refusal 3 "checkpoint of another diffuse model" "different job (diffuse model 0, this job has 1)" \
+    "$BIN" "${B[@]}" -s 2 --diffuse sphere --resume
+expect_refusal 3 "checkpoint of another scene" "different job (scene " "$BIN" "${B[@]}" -s 2 --grid 5 --resume
 cp "$WORK/x.png.ckpt" "$WORK/y.ckpt"
 printf '\x01' | dd of="$WORK/x.png.ckpt" bs=1 seek=200 conv=notrunc 2>/dev/null
 expect_refusal 3 "corrupt checkpoint" "corrupt or truncated" "$BIN" "${B[@]}" -s 2 --resume
