@@ -60,3 +60,21 @@ rank_pid() { # text rank
         done
     done
 }
+# The CPU seconds process PID has used (user + system), or nothing once it
+# is gone.
+cpu_seconds() { # pid
+    local stat
+    stat=$(cat "/proc/$1/stat" 2>/dev/null) || return
+    # fields after the ")" that ends the command name: utime is the 12th, stime the 13th
+    awk -v t="$(getconf CLK_TCK)" '{print ($12 + $13) / t}' <<<"${stat##*) }"
+}
+# Waits until process PID has used SECONDS of CPU (it has done that much
+# work, however loaded the machine is); fails if it ends first.
+wait_cpu() { # pid seconds
+    local c
+    while c=$(cpu_seconds "$1") && [ -n "$c" ]; do
+        awk -v c="$c" -v s="$2" 'BEGIN {exit !(c >= s)}' && return 0
+        sleep 0.05
+    done
+    return 1
+}
