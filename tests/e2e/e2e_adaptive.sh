@@ -93,7 +93,7 @@ fi
 
 # Resume: stopped after its first checkpoint, the run ends with the same bytes.
 R=(--width 160 --height 96 -s 1024 --noise-threshold 0.01 --aov albedo -q)
-"$BIN" "${R[@]}" -j 2 -o "$WORK/rref.png" >/dev/null
+"$BIN" "${R[@]}" -j 2 -o "$WORK/rref.png" --stats "$WORK/rref.json" >/dev/null
 "$BIN" "${R[@]}" -j 2 -o "$WORK/r.png" --checkpoint-interval 0 >/dev/null 2>&1 &
 pid=$!
 for ((i = 0; i < 600; i++)); do [ -s "$WORK/r.png.ckpt" ] && break; sleep 0.1; done
@@ -103,9 +103,9 @@ check_eq "stopped run's exit status" $? 75
 "$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --noise-threshold 0.02 --resume >/dev/null 2>"$WORK/r.err"
 check_eq "a resume with another threshold is refused (exit status)" $? 3
 grep -q "noise threshold" "$WORK/r.err" && pass "the refusal names the threshold" || fail "refusal: $(cat "$WORK/r.err")"
-"$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --resume >"$WORK/r.out" 2>&1
+"$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --resume --stats "$WORK/r.json" >"$WORK/r.out" 2>&1
 check_eq "resume exit status" $? 0
-grep -q "of the samples restored" "$WORK/r.out" && pass "resume used the checkpoint" || fail "resume restored nothing"
+rendered_only_missing "adaptive resume" "$WORK/r.out" "$WORK/r.json" "$WORK/rref.json"
 cmp -s "$WORK/r.png" "$WORK/rref.png" && cmp -s "$WORK/r.albedo.pfm" "$WORK/rref.albedo.pfm" &&
     pass "resumed image and albedo identical" || fail "resumed files differ"
 # A progressive run stopped after a checkpoint, resumed without passes.
@@ -115,7 +115,8 @@ for ((i = 0; i < 600; i++)); do [ -s "$WORK/rp.png.ckpt" ] && break; sleep 0.1; 
 kill -TERM $pid
 wait $pid
 check_eq "stopped progressive run's exit status" $? 75
-"$BIN" "${R[@]}" -j 2 -o "$WORK/rp.png" --resume >/dev/null 2>&1
+"$BIN" "${R[@]}" -j 2 -o "$WORK/rp.png" --resume --stats "$WORK/rp.json" >"$WORK/rp.out" 2>&1
+rendered_only_missing "adaptive progressive resume" "$WORK/rp.out" "$WORK/rp.json" "$WORK/rref.json"
 cmp -s "$WORK/rp.png" "$WORK/rref.png" && cmp -s "$WORK/rp.albedo.pfm" "$WORK/rref.albedo.pfm" &&
     pass "progressive run resumed: identical" || fail "progressive run resumed: files differ"
 

@@ -78,3 +78,23 @@ wait_cpu() { # pid seconds
     done
     return 1
 }
+# A number from --stats' JSON (its first, top-level KEY).
+stat_of() { sed -n "0,/^\t\"$2\":/s/^\t\"$2\":\t\([0-9.]*\),*$/\1/p" "$1"; }
+# A resume renders only what the checkpoint lacks: the summary says some
+# but not all samples were restored, and the resumed run traced fewer ray
+# segments than the whole job (the same samples trace the same segments,
+# so a resume that rendered everything again has exactly as many) in no
+# more units.
+rendered_only_missing() { # label summary stats.json whole-job-stats.json
+    local restored segs units all_segs all_units
+    restored=$(sed -n 's/.*units, \([0-9.]*\)% of the samples restored.*/\1/p' "$2")
+    segs=$(stat_of "$3" ray_segments) units=$(stat_of "$3" units)
+    all_segs=$(stat_of "$4" ray_segments) all_units=$(stat_of "$4" units)
+    if [ -n "$restored" ] && [ -n "$segs" ] && [ -n "$all_segs" ] &&
+        awk -v r="$restored" -v s="$segs" -v S="$all_segs" -v u="$units" -v U="$all_units" \
+            'BEGIN {exit !(r > 0 && r < 100 && s < S && u <= U)}'; then
+        pass "$1: $restored% restored; rendered $units of $all_units units, $segs of $all_segs ray segments"
+    else
+        fail "$1: resume: '$restored'% restored, $units of $all_units units, $segs of $all_segs segments"
+    fi
+}
