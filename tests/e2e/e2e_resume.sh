@@ -83,6 +83,8 @@ if [ -n "$MPIRUN" ]; then
         fail "kill -9: rank 1 not found"
         kill -9 $pid
     fi
+else
+    skip "mpirun cases: no mpirun"
 fi
 
 # Refusals: exit 3, one clear line, nothing rendered.

@@ -19,7 +19,8 @@ check_eq() { # name got want (an empty want is a failure: nothing was parsed)
 skip() {
     if [ "${RT_REQUIRE_ALL:-0}" = 1 ]; then fail "cannot run here: $*"; else echo "SKIP: $*"; fi
 }
-finish() {
+finish() { # a script that ran no check fails: it tested nothing
+    [ $((PASSED + FAILED)) -gt 0 ] || fail "no check ran"
     echo "$PASSED passed, $FAILED failed"
     [ "$FAILED" -eq 0 ]
     exit $?
