@@ -44,6 +44,10 @@ if [ -n "$MPIRUN" ]; then
     variant "mpirun -np 3 --band 1" np3 mpirun_np 3 "$BIN" -j 1 --band 1
     variant "mpirun -np 4 --band 5 -j 2" np4 mpirun_np 4 "$BIN" -j 2 --band 5
     variant "mpirun -np 3 --passes 3 --band 2" np3p mpirun_np 3 "$BIN" -j 1 --passes 3 --band 2
+    # 5 ranks want more units (16 each) than the 64 rows: tiles, or sample
+    # ranges whose pixels take their counts from their pilots.
+    variant "mpirun -np 5, tiles" np5c mpirun_np 5 "$BIN" -j 1 --split columns
+    variant "mpirun -np 5, sample ranges" np5s mpirun_np 5 "$BIN" -j 1 --split samples
     # Fewer rows than the ranks want units: rows split into sample ranges,
     # each unit computes its pixels' counts from their pilots.
     S=(--width 96 --height 4 -s 64 --noise-threshold 0.05 -q)
