@@ -44,6 +44,10 @@ if [ -n "$MPIRUN" ]; then
     variant "mpirun -np 3 --band 1" np3 mpirun_np 3 "$BIN" -j 1 --band 1
     variant "mpirun -np 4 --band 5 -j 2" np4 mpirun_np 4 "$BIN" -j 2 --band 5
     variant "mpirun -np 3 --passes 3 --band 2" np3p mpirun_np 3 "$BIN" -j 1 --passes 3 --band 2
+    # 5 ranks want more units (16 each) than the 64 rows: tiles, or sample
+    # ranges whose pixels take their counts from their pilots.
+    variant "mpirun -np 5, tiles" np5c mpirun_np 5 "$BIN" -j 1 --split columns
+    variant "mpirun -np 5, sample ranges" np5s mpirun_np 5 "$BIN" -j 1 --split samples
     # Fewer rows than the ranks want units: rows split into sample ranges,
     # each unit computes its pixels' counts from their pilots.
     S=(--width 96 --height 4 -s 64 --noise-threshold 0.05 -q)
@@ -93,7 +97,7 @@ fi
 
 # Resume: stopped after its first checkpoint, the run ends with the same bytes.
 R=(--width 160 --height 96 -s 1024 --noise-threshold 0.01 --aov albedo -q)
-"$BIN" "${R[@]}" -j 2 -o "$WORK/rref.png" >/dev/null
+"$BIN" "${R[@]}" -j 2 -o "$WORK/rref.png" --stats "$WORK/rref.json" >/dev/null
 "$BIN" "${R[@]}" -j 2 -o "$WORK/r.png" --checkpoint-interval 0 >/dev/null 2>&1 &
 pid=$!
 for ((i = 0; i < 600; i++)); do [ -s "$WORK/r.png.ckpt" ] && break; sleep 0.1; done
@@ -103,9 +107,9 @@ check_eq "stopped run's exit status" $? 75
 "$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --noise-threshold 0.02 --resume >/dev/null 2>"$WORK/r.err"
 check_eq "a resume with another threshold is refused (exit status)" $? 3
 grep -q "noise threshold" "$WORK/r.err" && pass "the refusal names the threshold" || fail "refusal: $(cat "$WORK/r.err")"
-"$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --resume >"$WORK/r.out" 2>&1
+"$BIN" "${R[@]}" -j 1 -o "$WORK/r.png" --resume --stats "$WORK/r.json" >"$WORK/r.out" 2>&1
 check_eq "resume exit status" $? 0
-grep -q "of the samples restored" "$WORK/r.out" && pass "resume used the checkpoint" || fail "resume restored nothing"
+rendered_only_missing "adaptive resume" "$WORK/r.out" "$WORK/r.json" "$WORK/rref.json"
 cmp -s "$WORK/r.png" "$WORK/rref.png" && cmp -s "$WORK/r.albedo.pfm" "$WORK/rref.albedo.pfm" &&
     pass "resumed image and albedo identical" || fail "resumed files differ"
 # A progressive run stopped after a checkpoint, resumed without passes.
@@ -115,7 +119,8 @@ for ((i = 0; i < 600; i++)); do [ -s "$WORK/rp.png.ckpt" ] && break; sleep 0.1; 
 kill -TERM $pid
 wait $pid
 check_eq "stopped progressive run's exit status" $? 75
-"$BIN" "${R[@]}" -j 2 -o "$WORK/rp.png" --resume >/dev/null 2>&1
+"$BIN" "${R[@]}" -j 2 -o "$WORK/rp.png" --resume --stats "$WORK/rp.json" >"$WORK/rp.out" 2>&1
+rendered_only_missing "adaptive progressive resume" "$WORK/rp.out" "$WORK/rp.json" "$WORK/rref.json"
 cmp -s "$WORK/rp.png" "$WORK/rref.png" && cmp -s "$WORK/rp.albedo.pfm" "$WORK/rref.albedo.pfm" &&
     pass "progressive run resumed: identical" || fail "progressive run resumed: files differ"
 

@@ -58,36 +58,47 @@ if [ -n "$MPIRUN" ]; then
     run_variant "mpirun -np 3 --oversubscribe --band 1" "$WORK/h.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --band 1 -o "$WORK/h.png"
     run_variant "mpirun -np 3 --passes 2 --band 5" "$WORK/q.png" mpirun_np 3 "$BIN" "${ARGS[@]}" -j 1 --passes 2 --band 5 -o "$WORK/q.png"
     run_variant "mpirun -np 4 --oversubscribe --band 64" "$WORK/i.png" mpirun_np 4 "$BIN" "${ARGS[@]}" -j 1 --band 64 -o "$WORK/i.png"
-    # Fewer rows than the ranks want: column tiles (the default) or sample
-    # ranges (--split samples), also in progressive passes; the same pixels
-    # as one process, and the trace shows which it was (a tile is narrower
-    # than the 192 columns, a sample range has fewer than the 8 samples).
+    # Fewer rows than the ranks want (16 units each): column tiles (the
+    # default) or sample ranges (--split samples), also in progressive
+    # passes; the same pixels as one process, and the trace shows which it
+    # was (a tile is narrower than the image, a sample range shorter than a
+    # pass). 6 rows on 2 to 4 ranks, and the 64 rows of ARGS on 5.
+    split_case() { # label want-pixels width samples passes np split [options...]
+        local label=$1 want=$2 width=$3 spp=$4 passes=$5 np=$6 split=$7
+        shift 7
+        mpirun_np "$np" "$BIN" "$@" -j 1 --split "$split" --trace "$WORK/split.json" -o "$WORK/split.png" \
+            >/dev/null 2>&1
+        check_eq "$label at -np $np, --split $split $*: same pixels" "$("$PNGINFO" "$WORK/split.png")" "$want"
+        local by
+        by=$(grep -o '"rows [0-9]*-[0-9]* x [0-9]*-[0-9]* s [0-9]*-[0-9]*"' "$WORK/split.json" | tr -- '-"' '  ' |
+            awk -v w="$width" -v pass=$((spp / passes)) '$6 - $5 < w {t = 1} $9 - $8 < pass {r = 1}
+                END {printf "%s%s", t ? "columns" : "", r ? "samples" : ""}')
+        check_eq "$label at -np $np, --split $split $*: units split by $split" "$by" "$split"
+    }
     FEW=(--width 192 --height 6 -s 8 -q)
     "$BIN" "${FEW[@]}" -j 1 -o "$WORK/few.png" >/dev/null
     few=$("$PNGINFO" "$WORK/few.png")
-    for v in "3:columns:" "3:samples:" "4:columns:--passes 2" "4:samples:--passes 2" "2:columns:--band 1"; do
-        IFS=: read -r np split extra <<<"$v"
-        # shellcheck disable=SC2086
-        mpirun_np "$np" "$BIN" "${FEW[@]}" -j 1 --split "$split" $extra --trace "$WORK/few.json" \
-            -o "$WORK/few-$np.png" >/dev/null 2>&1
-        check_eq "6 rows at -np $np, --split $split $extra: same pixels" "$("$PNGINFO" "$WORK/few-$np.png")" "$few"
-        names=$(grep -o '"rows [0-9]*-[0-9]* x [0-9]*-[0-9]* s [0-9]*-[0-9]*"' "$WORK/few.json")
-        tiles=$(grep -vc ' x 0-192 ' <<<"$names")
-        ranges=$(grep -vc ' s 0-8"\| s 0-4"\| s 4-8"' <<<"$names")
-        check_eq "6 rows at -np $np, --split $split $extra: units split by $split" \
-            "$([ "$tiles" -gt 0 ] && echo columns)$([ "$ranges" -gt 0 ] && echo samples)" "$split"
-    done
-    # A slow rank gets less work: rank 2 of 3 sleeping 40 ms after each
-    # unit (test build) renders fewer units than either other rank, and the
-    # image is the same.
-    SLOW=(--width 96 --height 64 -s 32 -q -j 1 --band 1)
+    split_case "6 rows" "$few" 192 8 1 3 columns "${FEW[@]}"
+    split_case "6 rows" "$few" 192 8 1 3 samples "${FEW[@]}"
+    split_case "6 rows" "$few" 192 8 2 4 columns "${FEW[@]}" --passes 2
+    split_case "6 rows" "$few" 192 8 2 4 samples "${FEW[@]}" --passes 2
+    split_case "6 rows" "$few" 192 8 1 2 columns "${FEW[@]}" --band 1
+    split_case "96x64" "$info" 96 4 1 5 columns "${ARGS[@]}"
+    split_case "96x64" "$info" 96 4 1 5 samples "${ARGS[@]}"
+    # A slow rank gets less work: rank 2 of 3 sleeping 300 ms after each
+    # unit (test build; a one-row unit takes about 6 ms here, so the margin
+    # is some 50 times, not this machine's speed) renders under half of an
+    # equal share, and the image is the same.
+    SLOW=(--width 96 --height 64 -s 256 -q -j 1 --band 1)
     "$BIN" "${SLOW[@]}" -o "$WORK/slow-ref.png" >/dev/null
-    RT_TEST_SLOW_RANK=2:40 mpirun_np 3 "$HOOKS_BIN" "${SLOW[@]}" -o "$WORK/slow.png" >"$WORK/slow.out" 2>&1
+    RT_TEST_SLOW_RANK=2:300 mpirun_np 3 "$HOOKS_BIN" "${SLOW[@]}" -o "$WORK/slow.png" >"$WORK/slow.out" 2>&1
     cmp -s "$WORK/slow-ref.png" "$WORK/slow.png" && pass "one rank slowed down: identical bytes" ||
         fail "one rank slowed down: the image differs"
     read -r u0 u1 u2 <<<"$(awk '/^rank [0-9]+:/ {printf "%s ", $3}' "$WORK/slow.out")"
-    if ((u2 * 2 < u1 && u2 * 2 < u0)); then pass "the slow rank took $u2 units, the others $u0 and $u1"
-    else fail "the slow rank took $u2 units, the others $u0 and $u1 (want under half)"; fi
+    # (under half of an equal share: how the others split the rest depends
+    # on when rank 0 serves them, which is this machine's timing)
+    if ((u2 * 6 < u0 + u1 + u2)); then pass "the slow rank took $u2 units, the others $u0 and $u1"
+    else fail "the slow rank took $u2 units, the others $u0 and $u1 (want under half of a third)"; fi
     # Every rank rendered something when there is enough work, and the
     # summary accounts for all rows.
     mpirun_np 2 "$BIN" --width 96 --height 64 -s 16 -j 1 --band 2 -o "$WORK/j.png" >"$WORK/j.out" 2>&1
@@ -99,14 +110,13 @@ if [ -n "$MPIRUN" ]; then
     # fault hook is compiled into the test build only).
     RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$BIN" "${ARGS[@]}" -s 2 -o "$WORK/k0.png" >"$WORK/k0.out" 2>&1
     check_eq "the production build has no fault hook (exit status)" $? 0
-    start=$(date +%s)
+    # (124: mpirun_np's timeout ended it, not the failure)
     RT_FAULT_INJECT_RANK=1 mpirun_np 2 "$HOOKS_BIN" "${ARGS[@]}" -s 400 -o "$WORK/k.png" >"$WORK/k.out" 2>&1
     status=$?
-    took=$(($(date +%s) - start))
-    if [ $status -ne 0 ] && grep -q "rt-mpi: error: rank 1: fault injected" "$WORK/k.out" && [ $took -lt 30 ]; then
-        pass "rank failure ends the job (status $status, ${took}s)"
+    if [ $status -ne 0 ] && [ $status -ne 124 ] && grep -q "rt-mpi: error: rank 1: fault injected" "$WORK/k.out"; then
+        pass "rank failure ends the job (status $status)"
     else
-        fail "rank failure: status $status after ${took}s: $(grep -m1 error "$WORK/k.out")"
+        fail "rank failure: status $status: $(grep -m1 error "$WORK/k.out")"
     fi
     [ ! -e "$WORK/k.png" ] && pass "no output file after a failed job" || fail "failed job left $WORK/k.png"
     # A process started by hand runs without MPI (Open MPI would make it a
@@ -119,6 +129,8 @@ if [ -n "$MPIRUN" ]; then
     check_eq "RT_MPI_INIT=1: MPI initialised" "$(mpi_flag "$WORK/m2.json")" true
     mpirun_np 1 "$BIN" "${ARGS[@]}" -o "$WORK/m.png" --stats "$WORK/m3.json" >/dev/null
     check_eq "mpirun -np 1: MPI initialised" "$(mpi_flag "$WORK/m3.json")" true
+else
+    skip "mpirun variants, slow and failing ranks: no mpirun"
 fi
 # -j 0 takes every core also when OpenMP binds its threads (OMP_PROC_BIND:
 # the runtime pins the main thread to one core before main starts, so the
@@ -162,6 +174,8 @@ if [ -n "$MPIRUN" ]; then
     mpirun_np 2 "$BIN" "${ARGS[@]}" --sampler random -j 1 --band 5 -o "$WORK/r3.png" >/dev/null
     cmp -s "$WORK/r1.png" "$WORK/r3.png" && pass "--sampler random: mpirun -np 2 identical" ||
         fail "--sampler random: mpirun -np 2 differs"
+else
+    skip "--sampler random under mpirun: no mpirun"
 fi
 # Without the roulette the Sobol image differs from the default's, and its
 # PNG says so.

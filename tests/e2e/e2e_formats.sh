@@ -38,6 +38,8 @@ if [ -n "$MPIRUN" ]; then
         mpirun_np 2 "$BIN" "${ARGS[@]}" -j 1 -o "$WORK/mpi-$f" >/dev/null 2>&1
         cmp -s "$WORK/mpi-$f" "$D/$f" && pass "$f: mpirun -np 2 writes the same bytes" || fail "$f: mpirun -np 2 differs"
     done
+else
+    skip "formats under mpirun: no mpirun"
 fi
 
 # ImageMagick (the real one: convert as a package installs it) decodes the

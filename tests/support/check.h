@@ -8,6 +8,7 @@
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 static int check_pass, check_fail;
 
@@ -54,6 +55,18 @@ static int check_pass, check_fail;
             check_fail++;                                                                                          \
             fprintf(stderr, "%s:%d: CHECK_NEAR(%s, %s, %s) failed: %.17g vs %.17g (diff %.3g > %.3g)\n", __FILE__, \
                     __LINE__, #a, #b, #tol, va_, vb_, fabs(va_ - vb_), vt_);                                       \
+        }                                                                                                          \
+    } while (0)
+
+#define CHECK_HAS(text, part)                                                                                      \
+    do {                                                                                                           \
+        const char *vt_ = (text), *vp_ = (part);                                                                   \
+        if (strstr(vt_, vp_)) {                                                                                    \
+            check_pass++;                                                                                          \
+        } else {                                                                                                   \
+            check_fail++;                                                                                          \
+            fprintf(stderr, "%s:%d: CHECK_HAS(%s, %s) failed: '%s' lacks '%s'\n", __FILE__, __LINE__, #text, #part, \
+                    vt_, vp_);                                                                                     \
         }                                                                                                          \
     } while (0)
 

@@ -19,7 +19,8 @@ check_eq() { # name got want (an empty want is a failure: nothing was parsed)
 skip() {
     if [ "${RT_REQUIRE_ALL:-0}" = 1 ]; then fail "cannot run here: $*"; else echo "SKIP: $*"; fi
 }
-finish() {
+finish() { # a script that ran no check fails: it tested nothing
+    [ $((PASSED + FAILED)) -gt 0 ] || fail "no check ran"
     echo "$PASSED passed, $FAILED failed"
     [ "$FAILED" -eq 0 ]
     exit $?
@@ -59,4 +60,42 @@ rank_pid() { # text rank
             tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2" && { echo "$p"; return; }
         done
     done
+}
+# The CPU seconds process PID has used (user + system), or nothing once it
+# is gone.
+cpu_seconds() { # pid
+    local stat
+    stat=$(cat "/proc/$1/stat" 2>/dev/null) || return
+    # fields after the ")" that ends the command name: utime is the 12th, stime the 13th
+    awk -v t="$(getconf CLK_TCK)" '{print ($12 + $13) / t}' <<<"${stat##*) }"
+}
+# Waits until process PID has used SECONDS of CPU (it has done that much
+# work, however loaded the machine is); fails if it ends first.
+wait_cpu() { # pid seconds
+    local c
+    while c=$(cpu_seconds "$1") && [ -n "$c" ]; do
+        awk -v c="$c" -v s="$2" 'BEGIN {exit !(c >= s)}' && return 0
+        sleep 0.05
+    done
+    return 1
+}
+# A number from --stats' JSON (its first, top-level KEY).
+stat_of() { sed -n "0,/^\t\"$2\":/s/^\t\"$2\":\t\([0-9.]*\),*$/\1/p" "$1"; }
+# A resume renders only what the checkpoint lacks: the summary says some
+# but not all samples were restored, and the resumed run traced fewer ray
+# segments than the whole job (the same samples trace the same segments,
+# so a resume that rendered everything again has exactly as many) in no
+# more units.
+rendered_only_missing() { # label summary stats.json whole-job-stats.json
+    local restored segs units all_segs all_units
+    restored=$(sed -n 's/.*units, \([0-9.]*\)% of the samples restored.*/\1/p' "$2")
+    segs=$(stat_of "$3" ray_segments) units=$(stat_of "$3" units)
+    all_segs=$(stat_of "$4" ray_segments) all_units=$(stat_of "$4" units)
+    if [ -n "$restored" ] && [ -n "$segs" ] && [ -n "$all_segs" ] &&
+        awk -v r="$restored" -v s="$segs" -v S="$all_segs" -v u="$units" -v U="$all_units" \
+            'BEGIN {exit !(r > 0 && r < 100 && s < S && u <= U)}'; then
+        pass "$1: $restored% restored; rendered $units of $all_units units, $segs of $all_segs ray segments"
+    else
+        fail "$1: resume: '$restored'% restored, $units of $all_units units, $segs of $all_segs segments"
+    fi
 }

@@ -9,7 +9,9 @@
  *   sky, roulette from the first bounce) comes out a within 5 standard
  *   errors for each sampler, with and without roulette; the final scene's
  *   channel means match a random-sampler reference within 5 standard
- *   errors. (The first rule
+ *   errors; and once with power (check_bias_power): enough pixels that
+ *   +1 % is over 10 standard errors, where pixels stop at different counts
+ *   (in the furnaces without roulette every pixel stops at 16). (The first rule
  *   tried, stopping a pixel by its own samples at 16, 32, 64, ..., was
  *   1.3 % too bright here with the random sampler: the pilot's numbers are
  *   independent of the samples it counts.) */
@@ -128,6 +130,54 @@ static void check_furnace(void)
     rt_scene_free(&s);
 }
 
+/* A test with power: the furnace with the random sampler and the roulette
+ * from the first bounce (pixels stop at different counts: the check below
+ * makes sure), at 128 x 96 pixels, so that the standard error of the
+ * image's mean is under a tenth of 1 % of the albedo: a bias of +1 % is more
+ * than 10 standard errors, far outside the 5 allowed. (A pilot that reused
+ * the pixel's own numbers was +1.7 % here.) */
+static void check_bias_power(void)
+{
+    const rt_vec3 albedo = furnace_albedo();
+    rt_scene s;
+    rt_accel *a;
+    furnace_scene(&s, &a);
+    rt_job p = {128, 96, 256, 50, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 1, 1, 0.05, 0};
+    rt_renderer r;
+    CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
+    const size_t npix = (size_t)p.width * p.height;
+    int64_t *acc = calloc(npix * r.lay.ch, sizeof *acc);
+    rt_render_rows(&r, 0, p.height, 0, p.samples, acc, 2);
+    /* red: the pixels' means, their mean and its standard error; how many
+     * pixels took each count */
+    double m = 0, m2 = 0;
+    uint32_t by_count[9] = {0}; /* 16 << k samples */
+    for (size_t i = 0; i < npix; i++) {
+        const int64_t *px = acc + i * r.lay.ch;
+        const double v = (double)px[0] / RT_FIX_ONE / (double)px[3];
+        m += v / npix, m2 += v * v / npix;
+        for (uint32_t k = 0; k < 9; k++)
+            by_count[k] += (uint32_t)px[3] == (uint32_t)RT_ADAPT_FIRST << k;
+    }
+    const double se = sqrt((m2 - m * m > 0 ? m2 - m * m : 0) / npix);
+    uint32_t levels = 0;
+    printf("furnace with power, random+roulette, %zu pixels: red %.6f +- %.6f (want %.2f, off %+.3f%%, %.1f standard "
+           "errors; +1%% would be %.1f); pixels by count:",
+           npix, m, se, albedo.x, 100 * (m / albedo.x - 1), (m - albedo.x) / se, 0.01 * albedo.x / se);
+    for (uint32_t k = 0; k < 9; k++) {
+        if (by_count[k])
+            printf(" %u: %u", RT_ADAPT_FIRST << k, by_count[k]);
+        levels += by_count[k] >= npix / 10;
+    }
+    printf("\n");
+    CHECK(levels >= 2);                  /* pixels stop at different counts */
+    CHECK(0.01 * albedo.x >= 10 * se);   /* the power: +1 % is 10 standard errors or more */
+    CHECK_NEAR(m, albedo.x, 5 * se);     /* no bias */
+    free(acc);
+    rt_accel_free(a);
+    rt_scene_free(&s);
+}
+
 /* The final scene's channel means with adaptive sampling against a
  * reference of the random sampler at 1024 spp: each pixel's mean over its
  * own count, the image's mean of those, its standard error from every
@@ -178,6 +228,7 @@ int main(void)
     check_rule();
     check_replay();
     check_furnace();
+    check_bias_power();
     check_final_means();
     CHECK_DONE();
 }
