@@ -8,6 +8,8 @@
  * stream's master, between its pixels), does the MPI. While it has nothing
  * else to say for a quarter of the lease, it sends a beat: rank 0 takes a
  * rank it has not heard from for a lease as lost. */
+#include "inbox.h"
+#include "internal.h"
 #include "msg.h"
 
 #include <signal.h>
@@ -127,8 +129,8 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
     if (st) {
         w->failed = 1; /* poll ends the job: only the main thread may */
     } else {
-        int64_t *r = w->reports + w->n_reports;
-        r[0] = u->id, r[1] = (int64_t)segs, r[2] = (int64_t)(start * 1e9), r[3] = (int64_t)(end * 1e9);
+        const rt_msg_report rep = {u->id, segs, start, end};
+        rt_msg_report_encode(w->reports + w->n_reports, &rep);
         w->n_reports += RT_MSG_REPORT;
         double held = (double)(w->held.bytes + w->sealed_bytes);
         if (held > w->held_peak)
@@ -171,19 +173,12 @@ static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
     const size_t ch = w->held.ch;
     size_t n = 0;
     for (size_t i = 0; i < n_pieces; i++)
-        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
+        n += rt_msg_piece_len(&p[i], ch);
     if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
         rt_farm_fail(w->f, 1, "out of memory for the sums to send");
     int64_t *m = w->msg;
-    for (size_t i = 0; i < n_pieces; i++) {
-        size_t sums = (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
-        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].x0, m[3] = p[i].x1, m[4] = p[i].s0, m[5] = p[i].s1;
-        m[6] = (int64_t)p[i].n_ids;
-        for (size_t k = 0; k < p[i].n_ids; k++)
-            m[RT_MSG_PIECE + k] = p[i].ids[k];
-        memcpy(m + RT_MSG_PIECE + p[i].n_ids, p[i].sums, sums * sizeof *p[i].sums);
-        m += RT_MSG_PIECE + p[i].n_ids + sums;
-    }
+    for (size_t i = 0; i < n_pieces; i++)
+        m = rt_msg_piece_encode(m, &p[i], ch);
     send_or_fail(w, w->msg, (int)n, MPI_INT64_T, RT_TAG_SUMS);
 }
 
@@ -216,21 +211,24 @@ static void receive_units(worker *w, const MPI_Status *status)
     int count = 0;
     MPI_Get_count(status, MPI_UINT32_T, &count);
     uint32_t *m = count > 0 ? malloc((size_t)count * sizeof *m) : NULL;
-    if (count <= 0 || count % RT_MSG_UNIT || !m)
+    rt_unit *units = count > 0 ? malloc(((size_t)count / RT_MSG_UNIT + 1) * sizeof *units) : NULL;
+    if (count <= 0 || count % RT_MSG_UNIT || !m || !units)
         rt_farm_fail(w->f, 1, "malformed units from rank 0");
     MPI_Recv(m, count, MPI_UINT32_T, 0, RT_TAG_UNITS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     const rt_job *j = &w->job->renderer->job;
+    size_t n = 0;
     pthread_mutex_lock(&w->mu);
-    int bad = 0;
-    for (int k = 0; k < count; k += RT_MSG_UNIT) {
-        rt_unit u = {m[k], m[k + 1], m[k + 2], m[k + 5], m[k + 6], m[k + 3], m[k + 4]};
+    int bad = rt_msg_units_decode(m, (size_t)count, units, (size_t)(w->depth - w->qlen), &n) != RT_OK;
+    for (size_t k = 0; k < n && !bad; k++) {
+        const rt_unit u = units[k];
         bad |= u.y1 <= u.y0 || u.y1 > j->height || u.x1 <= u.x0 || u.x1 > j->width || u.s1 <= u.s0 ||
-               u.s1 > j->samples || w->qlen == w->depth;
+               u.s1 > j->samples;
         if (!bad)
             w->queue[(w->qhead + w->qlen++) % w->depth] = u;
     }
     pthread_mutex_unlock(&w->mu);
     free(m);
+    free(units);
     if (bad)
         rt_farm_fail(w->f, 1, "malformed or unrequested units from rank 0");
 }
@@ -242,7 +240,7 @@ static int receive(worker *w)
     for (;;) {
         int flag = 0;
         MPI_Status status;
-        if (rt_msg_probe(0, &flag, &status) != MPI_SUCCESS)
+        if (rt_inbox_probe(0, &flag, &status) != MPI_SUCCESS)
             rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
         if (!flag)
             return got;
@@ -324,7 +322,7 @@ static int worker_poll(void *ctx, int idle)
     if (got)
         w->idle = 0;
     if (idle && !got) {
-        rt_msg_nap(&w->idle);
+        rt_inbox_nap(&w->idle);
         w->me->wait += rt_now() - t0;
     } else {
         w->me->comm += rt_now() - t0;
@@ -372,7 +370,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
 #endif
     char host[sizeof me->host];
     rt_farm_hostname(host, sizeof host);
-    send_or_fail(&w, host, (int)strlen(host), MPI_CHAR, RT_TAG_HOST);
+    send_or_fail(&w, host, (int)strlen(host), MPI_BYTE, RT_TAG_HOST);
     int32_t want = w.depth;
     send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
     rt_render_source src = {worker_take, worker_done, worker_poll, &w};
@@ -383,8 +381,10 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
         stop(&w);
     /* FINISH came: every sum is in, this flush sends nothing. */
     flush(&w);
-    double bye[4] = {me->wait, me->comm, rt_farm_maxrss_mb(), w.held_peak / (1024.0 * 1024.0)};
-    send_or_fail(&w, bye, 4, MPI_DOUBLE, RT_TAG_BYE);
+    const rt_msg_bye b = {me->wait, me->comm, rt_farm_maxrss_mb(), w.held_peak / (1024.0 * 1024.0)};
+    double bye[RT_MSG_BYE];
+    rt_msg_bye_encode(bye, &b);
+    send_or_fail(&w, bye, RT_MSG_BYE, MPI_DOUBLE, RT_TAG_BYE);
     rt_held_free(&w.held);
     free(w.reports);
     free(w.msg);
