@@ -11,6 +11,7 @@
 #include "fileio.h"
 #include "image_write.h"
 #include "material.h"
+#include "policy.h"
 #include "render.h" /* RT_MAX_SAMPLES */
 #include "rt_config.h"
 #include "sampler.h"
@@ -38,10 +39,10 @@ void rt_cli_defaults(rt_options *o)
     o->job.diffuse = RT_DIFFUSE_LAMBERTIAN;
     o->job.sampler = RT_SAMPLER_SOBOL;
     o->checkpoint_interval = 60;
-    o->prefetch = 2;
-    o->lease = 5;
-    o->flush_interval = 0.1;
-    o->flush_mb = 64;
+    o->prefetch = RT_POLICY_PREFETCH;
+    o->lease = RT_POLICY_LEASE;
+    o->flush_interval = RT_POLICY_FLUSH_INTERVAL;
+    o->flush_mb = RT_POLICY_FLUSH_MB;
     o->passes = 1;
     o->bit_depth = 8;
 }
@@ -106,12 +107,12 @@ const char *rt_cli_usage(void)
            "                           cores available to the rank) [default: 0]\n"
            "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
            "      --lease <SECONDS>    A rank that rank 0 has not heard from for this long is lost: its\n"
-           "                           units go to the others [default: 5]\n"
+           "                           units go to the others [default: " RT_POLICY_STR(RT_POLICY_LEASE) "]\n"
            "      --split <HOW>        When rows are fewer than the ranks want: columns (tiles: each\n"
            "                           pixel's sums travel once) or samples [default: columns]\n"
            "      --flush-interval <SECONDS>  A rank sends its sums at least this often (0: only when\n"
-           "                           rank 0 asks or it holds --flush-mb) [default: 0.1]\n"
-           "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: 64]\n"
+           "                           rank 0 asks or it holds --flush-mb) [default: " RT_POLICY_STR(RT_POLICY_FLUSH_INTERVAL) "]\n"
+           "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: " RT_POLICY_STR(RT_POLICY_FLUSH_MB) "]\n"
            "\n"
            "Checkpoint:\n"
            "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
@@ -139,7 +140,7 @@ const char *rt_cli_usage(void)
            "                           with the SSE2 box test that x86-64 CPUs without AVX run)\n"
            "                           or bvh-scalar (the portable box test of non-x86 nodes)\n"
            "                           [default: bvh, or RT_ACCEL]\n"
-           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
+           "      --prefetch <N>       Work units a rank keeps in flight [default: " RT_POLICY_STR(RT_POLICY_PREFETCH) "]\n"
            "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
            "      --empty-units        Benchmark the farm: hand out and gather units without\n"
            "                           rendering them (the image is black)\n"

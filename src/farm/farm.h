@@ -90,8 +90,8 @@ typedef struct rt_farm_job {
      * latest every flush_interval seconds, when they hold flush_bytes, when
      * rank 0 asks (progressive passes, checkpoints, the end) and on a
      * signal. A worker that rank 0 has not heard from for `lease` seconds
-     * is lost: its units go to the others (0: the defaults, 0.1 s, 64 MiB,
-     * 5 s). */
+     * is lost: its units go to the others (0 bytes or lease: policy.h's
+     * defaults; flush_interval RT_POLICY_FLUSH_NEVER: no timer). */
     double flush_interval;
     size_t flush_bytes;
     double lease;

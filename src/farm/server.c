@@ -18,6 +18,7 @@
 #include "inbox.h"
 #include "internal.h"
 #include "msg.h"
+#include "policy.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -423,7 +424,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
     s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
         rt_farm_fail(f, 1, "out of memory on rank 0");
-    s.lease = R->job->lease > 0 ? R->job->lease : 5.0;
+    s.lease = R->job->lease > 0 ? R->job->lease : RT_POLICY_LEASE;
     double cpu0 = thread_cpu(), now = rt_now();
     s.next_flush = now + R->job->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)

@@ -11,7 +11,9 @@
 #include "inbox.h"
 #include "internal.h"
 #include "msg.h"
+#include "policy.h"
 
+#include <math.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -338,17 +340,18 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     w.job = job;
     w.me = me;
     w.t_start = t_start;
-    w.depth = job->prefetch > 0 ? job->prefetch : 2;
+    w.depth = job->prefetch > 0 ? job->prefetch : RT_POLICY_PREFETCH;
     w.stride = 1;
-    w.flush_interval = job->flush_interval > 0 ? job->flush_interval : 0.1;
-    w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)64 << 20;
-    w.beat = (job->lease > 0 ? job->lease : 5.0) / 4;
+    /* never on a timer: an interval no wait reaches */
+    w.flush_interval = job->flush_interval == RT_POLICY_FLUSH_NEVER ? INFINITY : job->flush_interval;
+    w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)RT_POLICY_FLUSH_MB << 20;
+    w.beat = (job->lease > 0 ? job->lease : RT_POLICY_LEASE) / 4.0;
     w.last_flush = w.last_sent = rt_now();
     /* The first flush comes after a share of the interval that grows with
      * the rank, so that the workers' flushes reach rank 0 spread over each
      * interval, not all at once (by the model, 0.905 -> 0.938 for the
      * default job at 64 x 16, docs/SCALING.md). */
-    if (f->size > 2 && w.flush_interval < 1e29)
+    if (f->size > 2 && isfinite(w.flush_interval))
         w.last_flush -= w.flush_interval * (f->rank - 1) / (f->size - 1);
     atomic_init(&w.ready, 0);
     rt_held_init(&w.held, job->renderer->job.width, job->renderer->lay.ch);
