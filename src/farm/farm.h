@@ -20,12 +20,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "exitcode.h"
 #include "render.h"
 #include "schedule.h"
 
-/* Exit status of a run stopped by SIGTERM/SIGINT/SIGUSR1 after it saved
- * its checkpoint: rerun with --resume (EX_TEMPFAIL). */
-#define RT_EXIT_INTERRUPTED 75
 
 typedef struct rt_farm {
     int rank, size;
@@ -126,9 +124,9 @@ void rt_farm_finalize(rt_farm *f);
  * first line), or "none" in a build without MPI. Needs no MPI_Init. */
 const char *rt_farm_mpi_version(void);
 /* Prints "rt-mpi: error: [rank N: ]msg" and ends every rank with code. */
-void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
+void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
 /* Ends the whole job with code, without a message. */
-void rt_farm_exit(const rt_farm *f, int code) __attribute__((noreturn));
+void rt_farm_exit(const rt_farm *f, rt_exit_code code) __attribute__((noreturn));
 
 void rt_farm_bcast_int(const rt_farm *f, int *v);
 /* Every rank's verdict before the render (an exit code, 0 for none):
@@ -157,9 +155,11 @@ int rt_farm_bind_threads(const rt_farm *f, int threads);
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
-/* Renders the whole image. Collective. On SIGTERM, SIGINT or SIGUSR1, rank 0
- * saves (hooks.save), calls hooks.stopped and the job ends with
- * RT_EXIT_INTERRUPTED (this call does not return then). */
-int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
+/* Renders the whole image. Collective. Returns only when every sum is in
+ * (res filled): a failure ends the job here with RT_EXIT_RUNTIME, and on
+ * SIGTERM, SIGINT or SIGUSR1 rank 0 saves (hooks.save), calls hooks.stopped
+ * and the job ends with RT_EXIT_INTERRUPTED; so there is no status to
+ * return. */
+void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
 
 #endif

@@ -72,7 +72,7 @@ static int post(server *s, int r, int tag, MPI_Datatype type, const void *buf, i
     if ((count && !copy) ||
         rt_array_reserve((void **)&s->outbox, &s->cap_outbox, s->n_outbox + 1, sizeof *s->outbox)) {
         free(copy);
-        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     }
     if (count)
         memcpy(copy, buf, (size_t)count * size);
@@ -113,7 +113,7 @@ static void serve_peer(server *s, int r)
     rt_unit u;
     while (p->alive && p->credit > 0 && rt_root_take(s->R, r, &u)) {
         if (rt_array_reserve((void **)&s->out, &s->cap_out, (n + 1) * RT_MSG_UNIT, sizeof *s->out))
-            rt_farm_fail(s->f, 1, "out of memory on rank 0");
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
         rt_msg_units_encode(s->out + n++ * RT_MSG_UNIT, &u, 1);
         p->credit--;
     }
@@ -167,7 +167,7 @@ static void lose(server *s, int r, const char *why)
     for (int q = 1; q < s->f->size; q++)
         left += s->peers[q].alive;
     if (!left && s->R->job->root_serves_only && !complete)
-        rt_farm_fail(s->f, 1, "every rank that renders is lost");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "every rank that renders is lost");
     serve_all(s);
 }
 
@@ -187,13 +187,13 @@ static void on_report(server *s, int r, const int64_t *m, int count)
 {
     size_t n;
     if (rt_msg_reports((size_t)count, &n))
-        rt_farm_fail(s->f, 1, "malformed report from rank %d", r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed report from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
     for (size_t k = 0; k < n; k++) {
         const rt_msg_report rep = rt_msg_report_decode(m, k);
         if (!rt_ledger_done(&s->R->led, r, rep.id)) {
             pthread_mutex_unlock(&s->R->mu);
-            rt_farm_fail(s->f, 1, "rank %d reported unit %lld, which it does not hold", r,
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d reported unit %lld, which it does not hold", r,
                          (long long)m[k * RT_MSG_REPORT]);
         }
         rt_assembly_account(&s->R->as, r, rt_sched_unit(&s->R->as.sched, rep.id), rep.segs, rep.start, rep.end);
@@ -226,12 +226,12 @@ static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
         covered += ok ? u->s1 - u->s0 : 0;
     }
     if (!ok || covered != block.s1 - block.s0)
-        rt_farm_fail(s->f, 1, "malformed sums from rank %d", r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed sums from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
     for (size_t k = 0; k < n_ids; k++)
         if (!rt_ledger_in(&s->R->led, r, (uint32_t)pc.ids[k])) {
             pthread_mutex_unlock(&s->R->mu);
-            rt_farm_fail(s->f, 1, "rank %d sent sums of a unit it does not hold", r);
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d sent sums of a unit it does not hold", r);
         }
     int st = rt_assembly_sums(a, &block, pc.sums, (uint32_t)n_ids);
     if (st && !s->R->error)
@@ -251,7 +251,7 @@ static void on_bye(server *s, int r, const double *m, int count)
 {
     rt_msg_bye b;
     if (rt_msg_bye_decode(m, (size_t)count, &b))
-        rt_farm_fail(s->f, 1, "malformed bye from rank %d", r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed bye from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
     rt_rank_stats *st = &s->R->as.stats[r];
     st->wait = b.wait, st->comm = b.comm, st->maxrss_mb = b.peak_mb, st->held_mb = b.held_mb;
@@ -283,13 +283,13 @@ static void receive(server *s, const MPI_Status *status)
     size_t size;
     rt_msg_elem elem;
     if (rt_msg_kind(tag, &elem, &size))
-        rt_farm_fail(s->f, 1, "unexpected message tag %d from rank %d", tag, r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank %d", tag, r);
     MPI_Datatype type = mpi_type(elem);
     int count = 0;
     MPI_Get_count(status, type, &count);
     /* cap in bytes: messages of every type share the buffer */
     if (count < 0 || (count > 0 && rt_array_reserve(&s->buf, &s->cap, (size_t)count * size, 1)))
-        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     if (MPI_Recv(s->buf, count, type, r, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS) {
         lose(s, r, "receiving from it failed");
         return;
@@ -324,13 +324,13 @@ static void receive(server *s, const MPI_Status *status)
         int st = rt_msg_host_decode(s->buf, (size_t)count, s->R->as.stats[r].host, sizeof s->R->as.stats[r].host);
         pthread_mutex_unlock(&s->R->mu);
         if (st)
-            rt_farm_fail(s->f, 1, "malformed host name from rank %d", r);
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed host name from rank %d", r);
         break;
     }
     case RT_TAG_BEAT:
         break;
     default:
-        rt_farm_fail(s->f, 1, "unexpected message tag %d from rank %d", tag, r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank %d", tag, r);
     }
 }
 
@@ -340,7 +340,7 @@ static int poll_once(server *s, int *idle)
     int flag = 0;
     MPI_Status status;
     if (rt_inbox_probe(MPI_ANY_SOURCE, &flag, &status) != MPI_SUCCESS)
-        rt_farm_fail(s->f, 1, "MPI_Iprobe failed");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "MPI_Iprobe failed");
     if (!flag) {
         rt_inbox_nap(idle);
         return 0;
@@ -423,7 +423,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
     s.f = f, s.R = R, s.res = res;
     s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
-        rt_farm_fail(f, 1, "out of memory on rank 0");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     s.lease = R->job->lease > 0 ? R->job->lease : RT_POLICY_LEASE;
     double cpu0 = thread_cpu(), now = rt_now();
     s.next_flush = now + R->job->hooks.save_interval / 2;
@@ -439,7 +439,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
         int complete = rt_assembly_complete(&R->as), err = R->error;
         pthread_mutex_unlock(&R->mu);
         if (err)
-            rt_farm_fail(f, 1, "rendering on rank 0 failed: %s", rt_status_str(err));
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering on rank 0 failed: %s", rt_status_str(err));
         rt_root_tick(R);
         ask_when_due(&s);
         if (complete && !s.finishing) {

@@ -148,7 +148,7 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
 static void send_or_fail(worker *w, const void *buf, int count, MPI_Datatype type, int tag)
 {
     if (MPI_Send(buf, count, type, 0, tag, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(w->f, 1, "cannot reach rank 0");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "cannot reach rank 0");
     w->last_sent = rt_now();
 }
 
@@ -156,7 +156,7 @@ static void send_reports(worker *w)
 {
     pthread_mutex_lock(&w->mu);
     if (w->failed)
-        rt_farm_fail(w->f, 1, "out of memory for the sums of a unit");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "out of memory for the sums of a unit");
     int64_t *r = w->reports;
     size_t n = w->n_reports;
     w->reports = NULL;
@@ -177,7 +177,7 @@ static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
     for (size_t i = 0; i < n_pieces; i++)
         n += rt_msg_piece_len(&p[i], ch);
     if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
-        rt_farm_fail(w->f, 1, "out of memory for the sums to send");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "out of memory for the sums to send");
     int64_t *m = w->msg;
     for (size_t i = 0; i < n_pieces; i++)
         m = rt_msg_piece_encode(m, &p[i], ch);
@@ -215,7 +215,7 @@ static void receive_units(worker *w, const MPI_Status *status)
     uint32_t *m = count > 0 ? malloc((size_t)count * sizeof *m) : NULL;
     rt_unit *units = count > 0 ? malloc(((size_t)count / RT_MSG_UNIT + 1) * sizeof *units) : NULL;
     if (count <= 0 || count % RT_MSG_UNIT || !m || !units)
-        rt_farm_fail(w->f, 1, "malformed units from rank 0");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "malformed units from rank 0");
     MPI_Recv(m, count, MPI_UINT32_T, 0, RT_TAG_UNITS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     const rt_job *j = &w->job->renderer->job;
     size_t n = 0;
@@ -232,7 +232,7 @@ static void receive_units(worker *w, const MPI_Status *status)
     free(m);
     free(units);
     if (bad)
-        rt_farm_fail(w->f, 1, "malformed or unrequested units from rank 0");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "malformed or unrequested units from rank 0");
 }
 
 /* Everything rank 0 sent; returns 1 when something came. */
@@ -243,7 +243,7 @@ static int receive(worker *w)
         int flag = 0;
         MPI_Status status;
         if (rt_inbox_probe(0, &flag, &status) != MPI_SUCCESS)
-            rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
+            rt_farm_fail(w->f, RT_EXIT_RUNTIME, "MPI_Iprobe failed");
         if (!flag)
             return got;
         got = 1;
@@ -269,7 +269,7 @@ static int receive(worker *w)
         if (tag == RT_TAG_STOP)
             rt_farm_stop_raise(SIGTERM);
         else if (tag != RT_TAG_IDLE && tag != RT_TAG_FLUSH)
-            rt_farm_fail(w->f, 1, "unexpected message tag %d from rank 0", tag);
+            rt_farm_fail(w->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank 0", tag);
     }
 }
 
@@ -358,14 +358,14 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)
-        rt_farm_fail(f, 1, "out of memory for work buffers");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory for work buffers");
     pthread_mutex_init(&w.mu, NULL);
 #ifdef RT_TEST_HOOKS
     /* Test builds only: make one rank fail, to check that the job ends
      * promptly (tests/e2e/e2e_determinism.sh). */
     const char *fault = getenv("RT_FAULT_INJECT_RANK");
     if (fault && atoi(fault) == f->rank)
-        rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
     /* ... or one rank slow: RT_TEST_SLOW_RANK=rank:ms after each unit */
     const char *slow = getenv("RT_TEST_SLOW_RANK");
     if (slow && atoi(slow) == f->rank && strchr(slow, ':'))
@@ -379,7 +379,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     rt_render_source src = {worker_take, worker_done, worker_poll, &w};
     int st = rt_farm_run_units(job, &src);
     if (st)
-        rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(st));
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));
     if (RT_FARM_STOPPED())
         stop(&w);
     /* FINISH came: every sum is in, this flush sends nothing. */
