@@ -204,7 +204,7 @@ typedef enum optkind {
     K_INT,    /* int field, whole number in [lo, hi] */
     K_U64,    /* uint64_t field, whole number in [lo, hi] */
     K_PATH,   /* const char * field, non-empty */
-    K_CHOICE, /* handled by choice() */
+    K_SPECIAL, /* names, real numbers, lists: parsed one by one in special() */
     K_ACTION, /* help, version, list-scenes */
 } optkind;
 
@@ -227,13 +227,13 @@ static const optdef OPTS[] = {
     {"threads", 'j', K_INT, F(threads), 0, 4096},
     {"seed", 0, K_U64, F(job.seed), 0, UINT64_MAX},
     {"band", 0, K_U32, F(band), 0, MAX_DIM},
-    {"accel", 0, K_CHOICE, 0, 0, 0},
-    {"diffuse", 0, K_CHOICE, 0, 0, 0},
-    {"sampler", 0, K_CHOICE, 0, 0, 0},
+    {"accel", 0, K_SPECIAL, 0, 0, 0},
+    {"diffuse", 0, K_SPECIAL, 0, 0, 0},
+    {"sampler", 0, K_SPECIAL, 0, 0, 0},
     {"roulette", 0, K_FLAG, F(roulette), 0, 0},
     {"no-roulette", 0, K_FLAG, F(no_roulette), 0, 0},
-    {"scene", 0, K_CHOICE, 0, 0, 0},
-    {"bit-depth", 0, K_CHOICE, 0, 0, 0},
+    {"scene", 0, K_SPECIAL, 0, 0, 0},
+    {"bit-depth", 0, K_SPECIAL, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
     {"dump-scene", 0, K_PATH, F(dump_scene), 0, 0},
     {"ppm-ascii", 0, K_FLAG, F(ppm_ascii), 0, 0},
@@ -248,14 +248,14 @@ static const optdef OPTS[] = {
     {"done-file", 0, K_PATH, F(done_file), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
     {"lease", 0, K_U32, F(lease), 1, 86400},
-    {"flush-interval", 0, K_CHOICE, 0, 0, 0},
-    {"split", 0, K_CHOICE, 0, 0, 0},
+    {"flush-interval", 0, K_SPECIAL, 0, 0, 0},
+    {"split", 0, K_SPECIAL, 0, 0, 0},
     {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
-    {"noise-threshold", 0, K_CHOICE, 0, 0, 0},
+    {"noise-threshold", 0, K_SPECIAL, 0, 0, 0},
     {"spp-map", 0, K_PATH, F(spp_map), 0, 0},
-    {"aov", 0, K_CHOICE, 0, 0, 0},
+    {"aov", 0, K_SPECIAL, 0, 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
     {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
     {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
@@ -290,8 +290,9 @@ static int real(const char *val, double lo, double hi, int above_lo, double *out
     return RT_OK;
 }
 
-/* The options whose value names one of a set of choices. */
-static int choice(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
+/* The options whose value needs code of its own: a name from a set of
+ * choices, a real number, a list. */
+static int special(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
 {
     int k;
     if (!strcmp(d->lng, "accel")) {
@@ -394,8 +395,8 @@ static int apply(const optdef *d, const char *name, const char *val, rt_options 
         }
         *(const char **)field = val;
         return RT_OK;
-    case K_CHOICE:
-        return choice(d, name, val, o, err, errlen);
+    case K_SPECIAL:
+        return special(d, name, val, o, err, errlen);
     case K_ACTION:
         /* --help wins over the others, --list-scenes and --version over a run */
         if (*action == RT_CLI_RUN || d->off == RT_CLI_HELP)

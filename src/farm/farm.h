@@ -11,8 +11,9 @@
  * Files: start.c (MPI start-up, failure, broadcast, signals), place.c (CPU
  * masks and thread binding), root.c (rank 0: its own rendering and the
  * hooks), server.c (rank 0's MPI server), worker.c (the other ranks),
- * assemble.c (rank 0's result assembly: no MPI, unit-tested), stream.c
- * (running a rank's units), msg.c (the wire). */
+ * assemble.c (rank 0's result assembly: no MPI, unit-tested), units.c
+ * (running a rank's units), msg.c (the wire's codec: no MPI, unit-tested),
+ * inbox.c (polling for messages), policy.h (defaults), exitcode.h. */
 #ifndef RT_FARM_H
 #define RT_FARM_H
 

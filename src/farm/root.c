@@ -223,8 +223,8 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
     if (R.error)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(R.error));
     res->wall = rt_now() - t0;
-    R.as.stats[0].maxrss_mb = rt_farm_maxrss_mb();
-    rt_farm_hostname(R.as.stats[0].host, sizeof R.as.stats[0].host);
+    R.as.stats[0].maxrss_mb = rt_sysinfo_peak_mb();
+    rt_sysinfo_hostname(R.as.stats[0].host, sizeof R.as.stats[0].host);
     res->ranks = R.as.stats;
     res->segments = R.as.segments;
     res->trace = R.as.trace;

@@ -364,7 +364,8 @@ static void check_leases(server *s)
     }
 }
 
-static int all_alive(const server *s, int bye)
+/* Whether every live worker has said BYE (bye) or at least STOPPED (!bye). */
+static int live_peers_done(const server *s, int bye)
 {
     for (int r = 1; r < s->f->size; r++)
         if (s->peers[r].alive && !(bye ? s->peers[r].bye : s->peers[r].stopped || s->peers[r].bye))
@@ -386,7 +387,7 @@ static void stop_workers(server *s)
             lose(s, r, "sending to it failed");
     double deadline = rt_now() + (s->lease < 1 ? s->lease : 1);
     int idle = 0;
-    while (!all_alive(s, 0) && rt_now() < deadline)
+    while (!live_peers_done(s, 0) && rt_now() < deadline)
         poll_once(s, &idle);
 }
 
@@ -454,7 +455,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
                     lose(&s, r, "sending to it failed");
             }
         }
-        if (complete && all_alive(&s, 1))
+        if (complete && live_peers_done(&s, 1))
             break;
         check_leases(&s);
         reap(&s);

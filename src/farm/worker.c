@@ -372,7 +372,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
         w.slow_ms = atol(strchr(slow, ':') + 1);
 #endif
     char host[sizeof me->host];
-    rt_farm_hostname(host, sizeof host);
+    rt_sysinfo_hostname(host, sizeof host);
     send_or_fail(&w, host, (int)strlen(host), MPI_BYTE, RT_TAG_HOST);
     int32_t want = w.depth;
     send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
@@ -384,7 +384,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
         stop(&w);
     /* FINISH came: every sum is in, this flush sends nothing. */
     flush(&w);
-    const rt_msg_bye b = {me->wait, me->comm, rt_farm_maxrss_mb(), w.held_peak / (1024.0 * 1024.0)};
+    const rt_msg_bye b = {me->wait, me->comm, rt_sysinfo_peak_mb(), w.held_peak / (1024.0 * 1024.0)};
     double bye[RT_MSG_BYE];
     rt_msg_bye_encode(bye, &b);
     send_or_fail(&w, bye, RT_MSG_BYE, MPI_DOUBLE, RT_TAG_BYE);
