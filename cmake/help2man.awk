@@ -1,6 +1,6 @@
 # help2man.awk - rt-mpi --help (stdin) to the man page rt-mpi.1 (stdout);
 # run at build time (cmake/install.cmake) with -v version=X.Y.Z.
-# The help's layout (src/app/cli.c, rt_cli_usage) is what this reads:
+# The help's layout (src/app/usage.c, rt_cli_usage) is what this reads:
 #   "Usage: ..." and the lines under it       -> SYNOPSIS
 #   the first paragraph after them            -> DESCRIPTION
 #   "Topic:" at the start of a line           -> a section: Examples,

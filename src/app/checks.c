@@ -63,7 +63,7 @@ static void warn_placement(const rt_run *run)
                 run->opt.threads, f->cores);
 }
 
-int rt_run_check(rt_run *run, char *err, size_t errlen)
+rt_exit_code rt_run_check(rt_run *run, char *err, size_t errlen)
 {
     rt_options *o = &run->opt;
     if (!o->no_checkpoint && !o->checkpoint) {

@@ -11,6 +11,7 @@
 #include "fileio.h"
 #include "image_write.h"
 #include "material.h"
+#include "policy.h"
 #include "render.h" /* RT_MAX_SAMPLES */
 #include "rt_config.h"
 #include "sampler.h"
@@ -38,141 +39,12 @@ void rt_cli_defaults(rt_options *o)
     o->job.diffuse = RT_DIFFUSE_LAMBERTIAN;
     o->job.sampler = RT_SAMPLER_SOBOL;
     o->checkpoint_interval = 60;
-    o->prefetch = 2;
-    o->lease = 5;
-    o->flush_interval = 0.1;
-    o->flush_mb = 64;
+    o->prefetch = RT_POLICY_PREFETCH;
+    o->lease = RT_POLICY_LEASE;
+    o->flush_interval = RT_POLICY_FLUSH_INTERVAL;
+    o->flush_mb = RT_POLICY_FLUSH_MB;
     o->passes = 1;
     o->bit_depth = 8;
-}
-
-const char *rt_cli_usage(void)
-{
-    /* Also the man page's source (cmake/help2man.awk): a line "Topic:" opens
-     * a section, "  -x, --opt <ARG>  text" an item, deeper lines go on. */
-    return "Usage: rt-mpi [OPTIONS] [SCENE.json]\n"
-           "       mpirun -np N rt-mpi [OPTIONS] [SCENE.json]\n"
-           "\n"
-           "Renders the \"Ray Tracing in One Weekend\" scenes, or a JSON scene file, with a\n"
-           "path tracer that spreads row bands over MPI ranks and OpenMP threads. The image\n"
-           "is byte-identical for any number of ranks, threads and any band size. Progress\n"
-           "goes to stderr, the run summary (with the image hash) to stdout.\n"
-           "\n"
-           "Output:\n"
-           "  -o, --output <FILE>      Output image; the extension picks the format: .png, .ppm,\n"
-           "                           .bmp, or .pfm/.exr (linear float) [default: output.png]\n"
-           "      --bit-depth <BITS>   8 or 16 bits per channel (.png and .ppm) [default: 8]\n"
-           "      --ppm-ascii          Write .ppm as ASCII P3, as the book does (default: binary P6)\n"
-           "      --aov <LIST>         Also write what a denoiser needs: albedo, normal or both\n"
-           "                           (albedo,normal), as OUTPUT.albedo.pfm and OUTPUT.normal.pfm\n"
-           "                           (.exr beside an .exr output): the first non-specular hit,\n"
-           "                           averaged over the pixel's samples\n"
-           "  -q, --quiet              No progress output on stderr\n"
-           "\n"
-           "Scene:\n"
-           "  SCENE.json               A JSON scene file: the same as --scene-file SCENE.json\n"
-           "      --scene <NAME>       Scene to render (see --list-scenes) [default: final]\n"
-           "      --scene-file <FILE>  Render the scene described by a JSON scene file instead\n"
-           "      --list-scenes        List the named scenes and exit\n"
-           "      --dump-scene <FILE>  Write the scene this run would render as JSON, then exit\n"
-           "      --grid <GRID>        Half-grid size N of the final scene: 2N x 2N small spheres\n"
-           "                           [default: 11]\n"
-           "      --width <WIDTH>      Image width in pixels [default: 1200]\n"
-           "      --height <HEIGHT>    Image height in pixels (default: width / 1.5)\n"
-           "\n"
-           "Sampling:\n"
-           "  -s, --samples <SAMPLES>  Samples per pixel [default: 500]\n"
-           "      --seed <SEED>        Scene and sampling seed [default: 42]\n"
-           "      --max-depth <DEPTH>  Maximum ray segments per path [default: 50]\n"
-           "      --diffuse <MODEL>    lambertian, sphere or hemisphere [default: lambertian]\n"
-           "      --sampler <NAME>     sobol (scrambled Sobol points: less noise for the same\n"
-           "                           samples) or random (independent random numbers: the images\n"
-           "                           of sampling version 2) [default: sobol]\n"
-           "      --roulette           Russian roulette (unbiased) of dim paths after 3 bounces\n"
-           "                           [default: on with sobol, off with random]\n"
-           "      --no-roulette        No Russian roulette\n"
-           "      --noise-threshold <X>  Adaptive sampling: 16 pilot samples of its own decide how\n"
-           "                           many samples a pixel takes (16, 32, 64, ..., at most -s)\n"
-           "                           for an estimated relative error of X (0.01 to 0.05)\n"
-           "                           [default: off]\n"
-           "      --spp-map <FILE>     With --noise-threshold: write each pixel's samples over -s\n"
-           "                           as an image (gamma 2 in PNG, PPM, BMP; linear in PFM, EXR)\n"
-           "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
-           "                           image, rewriting a preview after each [default: 1]\n"
-           "      --preview <FILE>     Preview image of --passes [default: the output]\n"
-           "\n"
-           "Parallel:\n"
-           "  -j, --threads <THREADS>  Threads per rank (0 = OMP_NUM_THREADS if set, else all\n"
-           "                           cores available to the rank) [default: 0]\n"
-           "      --band <ROWS>        Rows per work unit (0 = automatic) [default: 0]\n"
-           "      --lease <SECONDS>    A rank that rank 0 has not heard from for this long is lost: its\n"
-           "                           units go to the others [default: 5]\n"
-           "      --split <HOW>        When rows are fewer than the ranks want: columns (tiles: each\n"
-           "                           pixel's sums travel once) or samples [default: columns]\n"
-           "      --flush-interval <SECONDS>  A rank sends its sums at least this often (0: only when\n"
-           "                           rank 0 asks or it holds --flush-mb) [default: 0.1]\n"
-           "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: 64]\n"
-           "\n"
-           "Checkpoint:\n"
-           "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
-           "      --checkpoint-interval <SECONDS>\n"
-           "                           Time between checkpoint writes (0: whenever rows\n"
-           "                           complete) [default: 60]\n"
-           "      --resume             Continue from the checkpoint (refused if it is from\n"
-           "                           another job)\n"
-           "      --keep-checkpoint    Keep the checkpoint after a successful run\n"
-           "      --no-checkpoint      Write no checkpoint\n"
-           "\n"
-           "Diagnostics:\n"
-           "      --stats <FILE.json>  Machine-readable run summary: inputs, times per rank,\n"
-           "                           version, command line, host, MPI library\n"
-           "      --trace <FILE.json>  Timeline of every work unit (Chrome trace format, Perfetto)\n"
-           "      --done-file <FILE>   Once the image is written, a line in FILE: 'done', the image\n"
-           "                           hash, the ranks lost (for job scripts: a launcher may report\n"
-           "                           a job that lost ranks as failed)\n"
-           "      --version            Print the version and the build's features, then exit\n"
-           "  -h, --help               Print this help\n"
-           "\n"
-           "Developer and benchmark options:\n"
-           "      --accel <NAME>       Intersector: bvh, brute (every sphere per ray), embree\n"
-           "                           (only in builds with -DRT_EMBREE=ON), bvh-sse (the BVH\n"
-           "                           with the SSE2 box test that x86-64 CPUs without AVX run)\n"
-           "                           or bvh-scalar (the portable box test of non-x86 nodes)\n"
-           "                           [default: bvh, or RT_ACCEL]\n"
-           "      --prefetch <N>       Work units a rank keeps in flight [default: 2]\n"
-           "      --serve-only         Rank 0 only hands out work (with several ranks)\n"
-           "      --empty-units        Benchmark the farm: hand out and gather units without\n"
-           "                           rendering them (the image is black)\n"
-           "\n"
-           "Examples:\n"
-           "  rt-mpi --width 400 -s 32 -o quick.png\n"
-           "                           A quick look at the book's final scene\n"
-           "  mpirun -np 4 --bind-to none rt-mpi -j 2 -o final.png\n"
-           "                           4 ranks of 2 threads each; after Ctrl-C the same\n"
-           "                           command with --resume continues\n"
-           "  rt-mpi scene.json -o scene.exr --stats run.json\n"
-           "                           A scene file (examples: share/rt-mpi/scenes), in linear\n"
-           "                           float, and a JSON summary of the run\n"
-           "\n"
-           "Environment:\n"
-           "  OMP_NUM_THREADS          Threads per rank when -j is 0\n"
-           "  RT_BIND                  0: never bind threads to CPUs (by default threads that\n"
-           "                           exactly fill a rank's CPUs are bound one to each)\n"
-           "  RT_ACCEL                 This node's default for --accel: bvh, bvh-sse or\n"
-           "                           bvh-scalar (all give the same image)\n"
-           "  RT_MPI_INIT              1: initialise MPI although no known launcher started the\n"
-           "                           process; 0: never (default: only under mpirun, srun...)\n"
-           "  OMPI_*                   Open MPI's settings, e.g. OMPI_MCA_pml=ob1 for a quicker\n"
-           "                           start; as root mpirun wants OMPI_ALLOW_RUN_AS_ROOT=1 and\n"
-           "                           OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1\n"
-           "\n"
-           "Exit status:\n"
-           "  0                        Done\n"
-           "  1                        Runtime failure\n"
-           "  2                        Bad input (one line: rt-mpi: error: ...)\n"
-           "  3                        Checkpoint refused (it belongs to another job)\n"
-           "  75                       Interrupted by SIGTERM, SIGINT or SIGUSR1 after saving the\n"
-           "                           checkpoint: rerun with --resume\n";
 }
 
 int rt_cli_parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
@@ -203,7 +75,7 @@ typedef enum optkind {
     K_INT,    /* int field, whole number in [lo, hi] */
     K_U64,    /* uint64_t field, whole number in [lo, hi] */
     K_PATH,   /* const char * field, non-empty */
-    K_CHOICE, /* handled by choice() */
+    K_SPECIAL, /* names, real numbers, lists: parsed one by one in special() */
     K_ACTION, /* help, version, list-scenes */
 } optkind;
 
@@ -226,13 +98,13 @@ static const optdef OPTS[] = {
     {"threads", 'j', K_INT, F(threads), 0, 4096},
     {"seed", 0, K_U64, F(job.seed), 0, UINT64_MAX},
     {"band", 0, K_U32, F(band), 0, MAX_DIM},
-    {"accel", 0, K_CHOICE, 0, 0, 0},
-    {"diffuse", 0, K_CHOICE, 0, 0, 0},
-    {"sampler", 0, K_CHOICE, 0, 0, 0},
+    {"accel", 0, K_SPECIAL, 0, 0, 0},
+    {"diffuse", 0, K_SPECIAL, 0, 0, 0},
+    {"sampler", 0, K_SPECIAL, 0, 0, 0},
     {"roulette", 0, K_FLAG, F(roulette), 0, 0},
     {"no-roulette", 0, K_FLAG, F(no_roulette), 0, 0},
-    {"scene", 0, K_CHOICE, 0, 0, 0},
-    {"bit-depth", 0, K_CHOICE, 0, 0, 0},
+    {"scene", 0, K_SPECIAL, 0, 0, 0},
+    {"bit-depth", 0, K_SPECIAL, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
     {"dump-scene", 0, K_PATH, F(dump_scene), 0, 0},
     {"ppm-ascii", 0, K_FLAG, F(ppm_ascii), 0, 0},
@@ -247,14 +119,14 @@ static const optdef OPTS[] = {
     {"done-file", 0, K_PATH, F(done_file), 0, 0},
     {"prefetch", 0, K_U32, F(prefetch), 1, 64},
     {"lease", 0, K_U32, F(lease), 1, 86400},
-    {"flush-interval", 0, K_CHOICE, 0, 0, 0},
-    {"split", 0, K_CHOICE, 0, 0, 0},
+    {"flush-interval", 0, K_SPECIAL, 0, 0, 0},
+    {"split", 0, K_SPECIAL, 0, 0, 0},
     {"flush-mb", 0, K_U32, F(flush_mb), 1, 1u << 20},
     {"passes", 0, K_U32, F(passes), 1, RT_MAX_SAMPLES},
     {"preview", 0, K_PATH, F(preview), 0, 0},
-    {"noise-threshold", 0, K_CHOICE, 0, 0, 0},
+    {"noise-threshold", 0, K_SPECIAL, 0, 0, 0},
     {"spp-map", 0, K_PATH, F(spp_map), 0, 0},
-    {"aov", 0, K_CHOICE, 0, 0, 0},
+    {"aov", 0, K_SPECIAL, 0, 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
     {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
     {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
@@ -289,8 +161,9 @@ static int real(const char *val, double lo, double hi, int above_lo, double *out
     return RT_OK;
 }
 
-/* The options whose value names one of a set of choices. */
-static int choice(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
+/* The options whose value needs code of its own: a name from a set of
+ * choices, a real number, a list. */
+static int special(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
 {
     int k;
     if (!strcmp(d->lng, "accel")) {
@@ -393,8 +266,8 @@ static int apply(const optdef *d, const char *name, const char *val, rt_options 
         }
         *(const char **)field = val;
         return RT_OK;
-    case K_CHOICE:
-        return choice(d, name, val, o, err, errlen);
+    case K_SPECIAL:
+        return special(d, name, val, o, err, errlen);
     case K_ACTION:
         /* --help wins over the others, --list-scenes and --version over a run */
         if (*action == RT_CLI_RUN || d->off == RT_CLI_HELP)

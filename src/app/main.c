@@ -86,7 +86,8 @@ int main(int argc, char **argv)
     rt_run_job(&run);
     run.setup = rt_now() - t_scene;
 
-    /* 5. The render, across every rank. */
+    /* 5. The render, across every rank (a failure or signal ends the job
+     * inside it). */
     rt_farm_render(&run.farm, &run.job, &run.res);
     rt_mem_settle(&run.fb);
 

@@ -16,7 +16,7 @@
 #include "status.h"
 
 #if RT_HAVE_CJSON
-#include <cjson/cJSON.h>
+#include <cJSON.h>
 #endif
 
 void rt_report_features(char *buf, size_t n)

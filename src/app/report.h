@@ -19,8 +19,8 @@ typedef struct rt_report_origin {
     int argc;
     char *const *argv;        /* the command line exactly as given */
     time_t start;             /* the run's start (written as ISO 8601, UTC) */
-    const char *host;         /* rank 0's host name. TODO: every rank's, which
-                               * needs the farm to gather them */
+    const char *host;         /* rank 0's host name (every rank's is in the
+                               * farm's per-rank stats) */
     const char *mpi_library;  /* rt_farm_mpi_version() */
     const char *slurm_job_id; /* SLURM_JOB_ID, or NULL outside Slurm */
 } rt_report_origin;

@@ -19,11 +19,6 @@
 #include "render.h"
 #include "scene.h"
 
-/* Exit codes (README "Exit codes"); RT_EXIT_INTERRUPTED (75) is the farm's. */
-#define RT_EXIT_RUNTIME 1
-#define RT_EXIT_USAGE 2
-#define RT_EXIT_CHECKPOINT 3
-
 typedef struct rt_run {
     double t_start;
     double setup;         /* seconds from the scene broadcast to the render's start */
@@ -53,8 +48,8 @@ typedef struct rt_run {
 } rt_run;
 
 /* checks.c: rank 0 checks the file system and the machine, every rank its
- * thread count; a non-zero exit code with err filled, or 0. */
-int rt_run_check(rt_run *run, char *err, size_t errlen);
+ * thread count; a non-zero exit code with err filled, or RT_EXIT_OK. */
+rt_exit_code rt_run_check(rt_run *run, char *err, size_t errlen);
 
 /* setup.c */
 /* --dump-scene: rank 0 writes the scene as JSON; an exit code. */

@@ -10,6 +10,7 @@
 #include "hash.h"
 #include "image_write.h"
 #include "mem.h"
+#include "policy.h"
 #include "rt_config.h"
 #include "run.h"
 #include "scene_json.h"
@@ -164,13 +165,13 @@ void rt_run_job(rt_run *run)
     run->ckpt = (rt_ckpt_id){o->job, o->accel != RT_ACCEL_EMBREE, run->scene_hash, RT_RENDER_SAMPLING};
     memset(job, 0, sizeof *job);
     job->renderer = &run->renderer;
-    job->sched = (rt_sched_params){.band = o->band, .max_band = 16, .ranks = (uint32_t)run->farm.size,
-                                   .units_per_rank = 16, .min_samples = 1, .passes = o->passes,
+    job->sched = (rt_sched_params){.band = o->band, .max_band = RT_POLICY_MAX_BAND, .ranks = (uint32_t)run->farm.size,
+                                   .units_per_rank = RT_POLICY_UNITS_PER_RANK, .min_samples = 1, .passes = o->passes,
                                    .split = o->split};
     job->threads = run->threads;
     job->prefetch = (int)o->prefetch;
     job->lease = o->lease;
-    job->flush_interval = o->flush_interval > 0 ? o->flush_interval : 1e30;
+    job->flush_interval = o->flush_interval;
     job->flush_bytes = (size_t)o->flush_mb << 20;
     job->empty_units = o->empty_units;
     job->root_serves_only = o->serve_only;

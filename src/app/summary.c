@@ -5,7 +5,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "clock.h"
 #include "fileio.h"
@@ -16,6 +15,7 @@
 #include "rt_config.h"
 #include "run.h"
 #include "status.h"
+#include "sysinfo.h"
 
 /* The command that reproduces this image: every option that changes a pixel,
  * none that only changes how the work is spread (-j, --band, ranks) or where
@@ -257,9 +257,8 @@ static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *
 {
     const rt_options *o = &run->opt;
     const rt_farm_result *res = &run->res;
-    char host[256] = "";
-    if (gethostname(host, sizeof host - 1) != 0)
-        host[0] = 0;
+    char host[256];
+    rt_sysinfo_hostname(host, sizeof host);
     const char *job_id = getenv("SLURM_JOB_ID");
     rt_report_origin origin = {run->argc, run->argv, run->start, host, rt_farm_mpi_version(),
                                job_id && *job_id ? job_id : NULL};

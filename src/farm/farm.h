@@ -11,8 +11,9 @@
  * Files: start.c (MPI start-up, failure, broadcast, signals), place.c (CPU
  * masks and thread binding), root.c (rank 0: its own rendering and the
  * hooks), server.c (rank 0's MPI server), worker.c (the other ranks),
- * assemble.c (rank 0's result assembly: no MPI, unit-tested), stream.c
- * (running a rank's units), msg.c (the wire). */
+ * assemble.c (rank 0's result assembly: no MPI, unit-tested), units.c
+ * (running a rank's units), msg.c (the wire's codec: no MPI, unit-tested),
+ * inbox.c (polling for messages), policy.h (defaults), exitcode.h. */
 #ifndef RT_FARM_H
 #define RT_FARM_H
 
@@ -20,12 +21,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "exitcode.h"
 #include "render.h"
 #include "schedule.h"
 
-/* Exit status of a run stopped by SIGTERM/SIGINT/SIGUSR1 after it saved
- * its checkpoint: rerun with --resume (EX_TEMPFAIL). */
-#define RT_EXIT_INTERRUPTED 75
 
 typedef struct rt_farm {
     int rank, size;
@@ -90,8 +89,8 @@ typedef struct rt_farm_job {
      * latest every flush_interval seconds, when they hold flush_bytes, when
      * rank 0 asks (progressive passes, checkpoints, the end) and on a
      * signal. A worker that rank 0 has not heard from for `lease` seconds
-     * is lost: its units go to the others (0: the defaults, 0.1 s, 64 MiB,
-     * 5 s). */
+     * is lost: its units go to the others (0 bytes or lease: policy.h's
+     * defaults; flush_interval RT_POLICY_FLUSH_NEVER: no timer). */
     double flush_interval;
     size_t flush_bytes;
     double lease;
@@ -126,9 +125,9 @@ void rt_farm_finalize(rt_farm *f);
  * first line), or "none" in a build without MPI. Needs no MPI_Init. */
 const char *rt_farm_mpi_version(void);
 /* Prints "rt-mpi: error: [rank N: ]msg" and ends every rank with code. */
-void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
+void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
 /* Ends the whole job with code, without a message. */
-void rt_farm_exit(const rt_farm *f, int code) __attribute__((noreturn));
+void rt_farm_exit(const rt_farm *f, rt_exit_code code) __attribute__((noreturn));
 
 void rt_farm_bcast_int(const rt_farm *f, int *v);
 /* Every rank's verdict before the render (an exit code, 0 for none):
@@ -157,9 +156,11 @@ int rt_farm_bind_threads(const rt_farm *f, int threads);
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
-/* Renders the whole image. Collective. On SIGTERM, SIGINT or SIGUSR1, rank 0
- * saves (hooks.save), calls hooks.stopped and the job ends with
- * RT_EXIT_INTERRUPTED (this call does not return then). */
-int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
+/* Renders the whole image. Collective. Returns only when every sum is in
+ * (res filled): a failure ends the job here with RT_EXIT_RUNTIME, and on
+ * SIGTERM, SIGINT or SIGUSR1 rank 0 saves (hooks.save), calls hooks.stopped
+ * and the job ends with RT_EXIT_INTERRUPTED; so there is no status to
+ * return. */
+void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
 
 #endif

@@ -8,6 +8,7 @@
 #include "held.h"
 #include "ledger.h"
 #include "farm.h"
+#include "sysinfo.h"
 
 /* start.c: the signal handlers. */
 void rt_farm_signals_install(void);
@@ -20,7 +21,7 @@ void rt_farm_stop_raise(int sig);
 void rt_farm_place_init(rt_farm *f);
 void rt_farm_place_share(rt_farm *f);
 
-/* stream.c: runs every unit of src: rendered (rt_render_stream), or, with
+/* units.c: runs every unit of src: rendered (rt_render_stream), or, with
  * job->empty_units, handed to done as zero sums without rendering (a
  * benchmark of the farm itself). A status. */
 int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
@@ -29,10 +30,6 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
  * done, whichever is later, and every moment counts once. *last is when
  * the previous unit was done; it becomes end. */
 double rt_farm_unit_start(double taken, double *last, double end);
-/* Peak resident memory of this process in MB. */
-double rt_farm_maxrss_mb(void);
-/* This node's name (gethostname), cut to fit; "" if it has none. */
-void rt_farm_hostname(char *buf, size_t n);
 
 /* root.c: rank 0's state, shared by its render thread and its main thread
  * (the server). Everything in it is guarded by mu. */

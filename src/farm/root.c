@@ -201,7 +201,7 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
     if (!st)
         st = rt_ledger_init(&R.led, &R.as.sched, f->size);
     if (st)
-        rt_farm_fail(f, 1, "cannot plan the work units: %s", rt_status_str(st));
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot plan the work units: %s", rt_status_str(st));
     res->units = R.as.sched.n_units;
     if (f->size == 1) {
         R.serial = 1;
@@ -212,7 +212,7 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
         pthread_t th;
         int render = !job->root_serves_only;
         if (render && pthread_create(&th, NULL, local_loop, &R) != 0)
-            rt_farm_fail(f, 1, "cannot start the render thread on rank 0");
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot start the render thread on rank 0");
         rt_farm_serve(f, &R, res);
         if (render)
             pthread_join(th, NULL);
@@ -221,10 +221,10 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
     if (RT_FARM_STOPPED())
         interrupted(f, &R);
     if (R.error)
-        rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(R.error));
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(R.error));
     res->wall = rt_now() - t0;
-    R.as.stats[0].maxrss_mb = rt_farm_maxrss_mb();
-    rt_farm_hostname(R.as.stats[0].host, sizeof R.as.stats[0].host);
+    R.as.stats[0].maxrss_mb = rt_sysinfo_peak_mb();
+    rt_sysinfo_hostname(R.as.stats[0].host, sizeof R.as.stats[0].host);
     res->ranks = R.as.stats;
     res->segments = R.as.segments;
     res->trace = R.as.trace;
@@ -236,7 +236,7 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
     pthread_mutex_destroy(&R.mu);
 }
 
-int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
+void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
 {
     memset(res, 0, sizeof *res);
     rt_farm_signals_install();
@@ -247,7 +247,7 @@ int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
     double t0 = rt_now();
     if (f->rank == 0) {
         run_root(f, job, res, t0);
-        return RT_OK;
+        return;
     }
 #ifdef RT_HAVE_MPI
     rt_rank_stats mine;
@@ -256,5 +256,4 @@ int rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
     res->wall = rt_now() - t0;
     res->segments = (uint64_t)mine.segments;
 #endif
-    return RT_OK;
 }

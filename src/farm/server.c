@@ -15,7 +15,10 @@
  * the others, and whatever it sends later is dropped. The image is the same
  * bytes: every unit's sums enter it exactly once. */
 #define _GNU_SOURCE
+#include "inbox.h"
+#include "internal.h"
 #include "msg.h"
+#include "policy.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -69,7 +72,7 @@ static int post(server *s, int r, int tag, MPI_Datatype type, const void *buf, i
     if ((count && !copy) ||
         rt_array_reserve((void **)&s->outbox, &s->cap_outbox, s->n_outbox + 1, sizeof *s->outbox)) {
         free(copy);
-        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     }
     if (count)
         memcpy(copy, buf, (size_t)count * size);
@@ -110,9 +113,8 @@ static void serve_peer(server *s, int r)
     rt_unit u;
     while (p->alive && p->credit > 0 && rt_root_take(s->R, r, &u)) {
         if (rt_array_reserve((void **)&s->out, &s->cap_out, (n + 1) * RT_MSG_UNIT, sizeof *s->out))
-            rt_farm_fail(s->f, 1, "out of memory on rank 0");
-        uint32_t *m = s->out + n++ * RT_MSG_UNIT;
-        m[0] = u.id, m[1] = u.y0, m[2] = u.y1, m[3] = u.x0, m[4] = u.x1, m[5] = u.s0, m[6] = u.s1;
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
+        rt_msg_units_encode(s->out + n++ * RT_MSG_UNIT, &u, 1);
         p->credit--;
     }
     if (n) {
@@ -165,7 +167,7 @@ static void lose(server *s, int r, const char *why)
     for (int q = 1; q < s->f->size; q++)
         left += s->peers[q].alive;
     if (!left && s->R->job->root_serves_only && !complete)
-        rt_farm_fail(s->f, 1, "every rank that renders is lost");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "every rank that renders is lost");
     serve_all(s);
 }
 
@@ -183,22 +185,22 @@ static void ask_sums(server *s)
 
 static void on_report(server *s, int r, const int64_t *m, int count)
 {
-    if (count % RT_MSG_REPORT)
-        rt_farm_fail(s->f, 1, "malformed report from rank %d", r);
-    int n = count / RT_MSG_REPORT;
+    size_t n;
+    if (rt_msg_reports((size_t)count, &n))
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed report from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
-    for (int k = 0; k < n; k++, m += RT_MSG_REPORT) {
-        uint32_t id = m[0] >= 0 && m[0] <= UINT32_MAX ? (uint32_t)m[0] : UINT32_MAX;
-        if (!rt_ledger_done(&s->R->led, r, id)) {
+    for (size_t k = 0; k < n; k++) {
+        const rt_msg_report rep = rt_msg_report_decode(m, k);
+        if (!rt_ledger_done(&s->R->led, r, rep.id)) {
             pthread_mutex_unlock(&s->R->mu);
-            rt_farm_fail(s->f, 1, "rank %d reported unit %lld, which it does not hold", r, (long long)m[0]);
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d reported unit %lld, which it does not hold", r,
+                         (long long)m[k * RT_MSG_REPORT]);
         }
-        rt_assembly_account(&s->R->as, r, rt_sched_unit(&s->R->as.sched, id), (uint64_t)m[1], (double)m[2] * 1e-9,
-                            (double)m[3] * 1e-9);
+        rt_assembly_account(&s->R->as, r, rt_sched_unit(&s->R->as.sched, rep.id), rep.segs, rep.start, rep.end);
     }
     pthread_mutex_unlock(&s->R->mu);
     s->last_done = rt_now();
-    s->peers[r].credit += n;
+    s->peers[r].credit += (int)n;
     serve_peer(s, r);
 }
 
@@ -210,36 +212,32 @@ static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
 {
     rt_assembly *a = &s->R->as;
     const rt_sched *sc = &a->sched;
-    int ok = count >= RT_MSG_PIECE && m[6] > 0 && m[6] <= sc->n_units && m[0] >= 0 && m[0] < m[1] &&
-             m[1] <= sc->height && m[2] >= 0 && m[2] < m[3] && m[3] <= sc->width && m[4] >= 0 && m[4] < m[5] &&
-             m[5] <= sc->samples;
-    const size_t n_ids = ok ? (size_t)m[6] : 0;
-    const rt_unit block = {0, ok ? (uint32_t)m[0] : 0, ok ? (uint32_t)m[1] : 0, ok ? (uint32_t)m[4] : 0,
-                           ok ? (uint32_t)m[5] : 0, ok ? (uint32_t)m[2] : 0, ok ? (uint32_t)m[3] : 0};
-    const size_t len = RT_MSG_PIECE + n_ids + (size_t)rt_unit_pixels(&block) * (a->row / sc->width);
-    ok = ok && count >= len;
+    const rt_unit bounds = {0, 0, sc->height, 0, sc->samples, 0, sc->width};
+    rt_msg_piece pc;
+    int ok = rt_msg_piece_decode(m, count, &bounds, sc->n_units, a->row / sc->width, &pc) == RT_OK;
+    const rt_unit block = pc.block;
+    const size_t n_ids = pc.n_ids;
     uint64_t covered = 0;
     for (size_t k = 0; ok && k < n_ids; k++) {
-        const rt_unit *u = m[RT_MSG_PIECE + k] >= 0 && m[RT_MSG_PIECE + k] <= UINT32_MAX
-                               ? rt_sched_unit(sc, (uint32_t)m[RT_MSG_PIECE + k])
-                               : NULL;
+        const rt_unit *u =
+            pc.ids[k] >= 0 && pc.ids[k] <= UINT32_MAX ? rt_sched_unit(sc, (uint32_t)pc.ids[k]) : NULL;
         ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->x0 == block.x0 && u->x1 == block.x1 &&
              u->s0 >= block.s0 && u->s1 <= block.s1;
         covered += ok ? u->s1 - u->s0 : 0;
     }
     if (!ok || covered != block.s1 - block.s0)
-        rt_farm_fail(s->f, 1, "malformed sums from rank %d", r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed sums from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
     for (size_t k = 0; k < n_ids; k++)
-        if (!rt_ledger_in(&s->R->led, r, (uint32_t)m[RT_MSG_PIECE + k])) {
+        if (!rt_ledger_in(&s->R->led, r, (uint32_t)pc.ids[k])) {
             pthread_mutex_unlock(&s->R->mu);
-            rt_farm_fail(s->f, 1, "rank %d sent sums of a unit it does not hold", r);
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d sent sums of a unit it does not hold", r);
         }
-    int st = rt_assembly_sums(a, &block, m + RT_MSG_PIECE + n_ids, (uint32_t)n_ids);
+    int st = rt_assembly_sums(a, &block, pc.sums, (uint32_t)n_ids);
     if (st && !s->R->error)
         s->R->error = st;
     pthread_mutex_unlock(&s->R->mu);
-    return len;
+    return pc.len;
 }
 
 /* A flush: one or more pieces. */
@@ -251,31 +249,29 @@ static void on_sums(server *s, int r, const int64_t *m, int count)
 
 static void on_bye(server *s, int r, const double *m, int count)
 {
-    if (count != 4)
-        rt_farm_fail(s->f, 1, "malformed bye from rank %d", r);
+    rt_msg_bye b;
+    if (rt_msg_bye_decode(m, (size_t)count, &b))
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed bye from rank %d", r);
     pthread_mutex_lock(&s->R->mu);
     rt_rank_stats *st = &s->R->as.stats[r];
-    st->wait = m[0], st->comm = m[1], st->maxrss_mb = m[2], st->held_mb = m[3];
+    st->wait = b.wait, st->comm = b.comm, st->maxrss_mb = b.peak_mb, st->held_mb = b.held_mb;
     pthread_mutex_unlock(&s->R->mu);
     s->peers[r].bye = 1;
 }
 
-/* The MPI type a tag's message is made of, and its size. */
-static MPI_Datatype type_of(int tag, size_t *size)
+/* The MPI type of the codec's elements. */
+static MPI_Datatype mpi_type(rt_msg_elem e)
 {
-    switch (tag) {
-    case RT_TAG_HELLO:
-        *size = 4;
+    switch (e) {
+    case RT_MSG_I32:
         return MPI_INT32_T;
-    case RT_TAG_REPORT:
-    case RT_TAG_SUMS:
-        *size = 8;
+    case RT_MSG_U32:
+        return MPI_UINT32_T;
+    case RT_MSG_I64:
         return MPI_INT64_T;
-    case RT_TAG_BYE:
-        *size = 8;
+    case RT_MSG_F64:
         return MPI_DOUBLE;
     default:
-        *size = 1;
         return MPI_BYTE;
     }
 }
@@ -285,12 +281,15 @@ static void receive(server *s, const MPI_Status *status)
 {
     const int r = status->MPI_SOURCE, tag = status->MPI_TAG;
     size_t size;
-    MPI_Datatype type = type_of(tag, &size);
+    rt_msg_elem elem;
+    if (rt_msg_kind(tag, &elem, &size))
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank %d", tag, r);
+    MPI_Datatype type = mpi_type(elem);
     int count = 0;
     MPI_Get_count(status, type, &count);
     /* cap in bytes: messages of every type share the buffer */
     if (count < 0 || (count > 0 && rt_array_reserve(&s->buf, &s->cap, (size_t)count * size, 1)))
-        rt_farm_fail(s->f, 1, "out of memory on rank 0");
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     if (MPI_Recv(s->buf, count, type, r, tag, MPI_COMM_WORLD, MPI_STATUS_IGNORE) != MPI_SUCCESS) {
         lose(s, r, "receiving from it failed");
         return;
@@ -302,10 +301,12 @@ static void receive(server *s, const MPI_Status *status)
         return; /* a lost rank's word comes too late: its units are elsewhere */
     p->heard = rt_now();
     switch (tag) {
-    case RT_TAG_HELLO:
-        p->credit = count == 1 && *(int32_t *)s->buf > 0 ? *(int32_t *)s->buf : 1;
+    case RT_TAG_HELLO: {
+        int32_t want;
+        p->credit = rt_msg_int_decode(s->buf, (size_t)count, &want) == RT_OK && want > 0 ? want : 1;
         serve_peer(s, r);
         break;
+    }
     case RT_TAG_REPORT:
         on_report(s, r, s->buf, count);
         break;
@@ -320,17 +321,16 @@ static void receive(server *s, const MPI_Status *status)
         break;
     case RT_TAG_HOST: {
         pthread_mutex_lock(&s->R->mu);
-        char *host = s->R->as.stats[r].host;
-        const size_t n = (size_t)count < sizeof s->R->as.stats[r].host ? (size_t)count : sizeof s->R->as.stats[r].host - 1;
-        memcpy(host, s->buf, n);
-        host[n] = 0;
+        int st = rt_msg_host_decode(s->buf, (size_t)count, s->R->as.stats[r].host, sizeof s->R->as.stats[r].host);
         pthread_mutex_unlock(&s->R->mu);
+        if (st)
+            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed host name from rank %d", r);
         break;
     }
     case RT_TAG_BEAT:
         break;
     default:
-        rt_farm_fail(s->f, 1, "unexpected message tag %d from rank %d", tag, r);
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank %d", tag, r);
     }
 }
 
@@ -339,10 +339,10 @@ static int poll_once(server *s, int *idle)
 {
     int flag = 0;
     MPI_Status status;
-    if (rt_msg_probe(MPI_ANY_SOURCE, &flag, &status) != MPI_SUCCESS)
-        rt_farm_fail(s->f, 1, "MPI_Iprobe failed");
+    if (rt_inbox_probe(MPI_ANY_SOURCE, &flag, &status) != MPI_SUCCESS)
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "MPI_Iprobe failed");
     if (!flag) {
-        rt_msg_nap(idle);
+        rt_inbox_nap(idle);
         return 0;
     }
     *idle = 0;
@@ -364,7 +364,8 @@ static void check_leases(server *s)
     }
 }
 
-static int all_alive(const server *s, int bye)
+/* Whether every live worker has said BYE (bye) or at least STOPPED (!bye). */
+static int live_peers_done(const server *s, int bye)
 {
     for (int r = 1; r < s->f->size; r++)
         if (s->peers[r].alive && !(bye ? s->peers[r].bye : s->peers[r].stopped || s->peers[r].bye))
@@ -386,7 +387,7 @@ static void stop_workers(server *s)
             lose(s, r, "sending to it failed");
     double deadline = rt_now() + (s->lease < 1 ? s->lease : 1);
     int idle = 0;
-    while (!all_alive(s, 0) && rt_now() < deadline)
+    while (!live_peers_done(s, 0) && rt_now() < deadline)
         poll_once(s, &idle);
 }
 
@@ -423,8 +424,8 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
     s.f = f, s.R = R, s.res = res;
     s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
-        rt_farm_fail(f, 1, "out of memory on rank 0");
-    s.lease = R->job->lease > 0 ? R->job->lease : 5.0;
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory on rank 0");
+    s.lease = R->job->lease > 0 ? R->job->lease : RT_POLICY_LEASE;
     double cpu0 = thread_cpu(), now = rt_now();
     s.next_flush = now + R->job->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)
@@ -439,7 +440,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
         int complete = rt_assembly_complete(&R->as), err = R->error;
         pthread_mutex_unlock(&R->mu);
         if (err)
-            rt_farm_fail(f, 1, "rendering on rank 0 failed: %s", rt_status_str(err));
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering on rank 0 failed: %s", rt_status_str(err));
         rt_root_tick(R);
         ask_when_due(&s);
         if (complete && !s.finishing) {
@@ -454,7 +455,7 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
                     lose(&s, r, "sending to it failed");
             }
         }
-        if (complete && all_alive(&s, 1))
+        if (complete && live_peers_done(&s, 1))
             break;
         check_leases(&s);
         reap(&s);

@@ -80,7 +80,7 @@ int rt_farm_init(rt_farm *f, int *argc, char ***argv)
         /* Only the main thread ever calls MPI, but with a lower level we
          * must not even run a second thread on rank 0. */
         if (f->size > 1)
-            rt_farm_fail(f, 1, "MPI library provides no MPI_THREAD_FUNNELED support");
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI library provides no MPI_THREAD_FUNNELED support");
     }
 #else
     (void)argc;
@@ -124,7 +124,7 @@ void rt_farm_finalize(rt_farm *f)
     f->mpi = 0;
 }
 
-void rt_farm_exit(const rt_farm *f, int code)
+void rt_farm_exit(const rt_farm *f, rt_exit_code code)
 {
     fflush(stdout);
     fflush(stderr);
@@ -141,7 +141,7 @@ void rt_farm_exit(const rt_farm *f, int code)
     exit(code);
 }
 
-void rt_farm_fail(const rt_farm *f, int code, const char *fmt, ...)
+void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...)
 {
     char msg[1024];
     va_list ap;
@@ -170,7 +170,7 @@ int rt_farm_agree(const rt_farm *f, int mine, int *root)
         int worst = mine;
         if (MPI_Allreduce(&mine, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS ||
             MPI_Bcast(root, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-            rt_farm_fail(f, 1, "MPI_Allreduce failed");
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Allreduce failed");
         return worst;
     }
 #else
@@ -183,7 +183,7 @@ void rt_farm_bcast_int(const rt_farm *f, int *v)
 {
 #ifdef RT_HAVE_MPI
     if (f->mpi && f->size > 1 && MPI_Bcast(v, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "MPI_Bcast failed");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast failed");
 #else
     (void)f;
     (void)v;
@@ -197,17 +197,17 @@ int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len)
         return RT_OK;
     unsigned long long n = f->rank == 0 ? (unsigned long long)*len : 0;
     if (MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "MPI_Bcast failed");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast failed");
     if (n > (unsigned long long)INT32_MAX)
-        rt_farm_fail(f, 1, "scene of %llu bytes is too large to broadcast", n);
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "scene of %llu bytes is too large to broadcast", n);
     if (f->rank != 0) {
         *buf = malloc(n ? n : 1);
         if (!*buf)
-            rt_farm_fail(f, 1, "out of memory for the %llu-byte scene", n);
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory for the %llu-byte scene", n);
         *len = (size_t)n;
     }
     if (MPI_Bcast(*buf, (int)n, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, 1, "MPI_Bcast of the scene failed");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast of the scene failed");
 #else
     (void)f;
     (void)buf;

@@ -8,8 +8,12 @@
  * stream's master, between its pixels), does the MPI. While it has nothing
  * else to say for a quarter of the lease, it sends a beat: rank 0 takes a
  * rank it has not heard from for a lease as lost. */
+#include "inbox.h"
+#include "internal.h"
 #include "msg.h"
+#include "policy.h"
 
+#include <math.h>
 #include <signal.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -127,8 +131,8 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
     if (st) {
         w->failed = 1; /* poll ends the job: only the main thread may */
     } else {
-        int64_t *r = w->reports + w->n_reports;
-        r[0] = u->id, r[1] = (int64_t)segs, r[2] = (int64_t)(start * 1e9), r[3] = (int64_t)(end * 1e9);
+        const rt_msg_report rep = {u->id, segs, start, end};
+        rt_msg_report_encode(w->reports + w->n_reports, &rep);
         w->n_reports += RT_MSG_REPORT;
         double held = (double)(w->held.bytes + w->sealed_bytes);
         if (held > w->held_peak)
@@ -144,7 +148,7 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
 static void send_or_fail(worker *w, const void *buf, int count, MPI_Datatype type, int tag)
 {
     if (MPI_Send(buf, count, type, 0, tag, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(w->f, 1, "cannot reach rank 0");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "cannot reach rank 0");
     w->last_sent = rt_now();
 }
 
@@ -152,7 +156,7 @@ static void send_reports(worker *w)
 {
     pthread_mutex_lock(&w->mu);
     if (w->failed)
-        rt_farm_fail(w->f, 1, "out of memory for the sums of a unit");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "out of memory for the sums of a unit");
     int64_t *r = w->reports;
     size_t n = w->n_reports;
     w->reports = NULL;
@@ -171,19 +175,12 @@ static void send_pieces(worker *w, const rt_piece *p, size_t n_pieces)
     const size_t ch = w->held.ch;
     size_t n = 0;
     for (size_t i = 0; i < n_pieces; i++)
-        n += RT_MSG_PIECE + p[i].n_ids + (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
+        n += rt_msg_piece_len(&p[i], ch);
     if (rt_array_reserve((void **)&w->msg, &w->cap_msg, n, sizeof *w->msg))
-        rt_farm_fail(w->f, 1, "out of memory for the sums to send");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "out of memory for the sums to send");
     int64_t *m = w->msg;
-    for (size_t i = 0; i < n_pieces; i++) {
-        size_t sums = (size_t)(p[i].y1 - p[i].y0) * (p[i].x1 - p[i].x0) * ch;
-        m[0] = p[i].y0, m[1] = p[i].y1, m[2] = p[i].x0, m[3] = p[i].x1, m[4] = p[i].s0, m[5] = p[i].s1;
-        m[6] = (int64_t)p[i].n_ids;
-        for (size_t k = 0; k < p[i].n_ids; k++)
-            m[RT_MSG_PIECE + k] = p[i].ids[k];
-        memcpy(m + RT_MSG_PIECE + p[i].n_ids, p[i].sums, sums * sizeof *p[i].sums);
-        m += RT_MSG_PIECE + p[i].n_ids + sums;
-    }
+    for (size_t i = 0; i < n_pieces; i++)
+        m = rt_msg_piece_encode(m, &p[i], ch);
     send_or_fail(w, w->msg, (int)n, MPI_INT64_T, RT_TAG_SUMS);
 }
 
@@ -216,23 +213,26 @@ static void receive_units(worker *w, const MPI_Status *status)
     int count = 0;
     MPI_Get_count(status, MPI_UINT32_T, &count);
     uint32_t *m = count > 0 ? malloc((size_t)count * sizeof *m) : NULL;
-    if (count <= 0 || count % RT_MSG_UNIT || !m)
-        rt_farm_fail(w->f, 1, "malformed units from rank 0");
+    rt_unit *units = count > 0 ? malloc(((size_t)count / RT_MSG_UNIT + 1) * sizeof *units) : NULL;
+    if (count <= 0 || count % RT_MSG_UNIT || !m || !units)
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "malformed units from rank 0");
     MPI_Recv(m, count, MPI_UINT32_T, 0, RT_TAG_UNITS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     const rt_job *j = &w->job->renderer->job;
+    size_t n = 0;
     pthread_mutex_lock(&w->mu);
-    int bad = 0;
-    for (int k = 0; k < count; k += RT_MSG_UNIT) {
-        rt_unit u = {m[k], m[k + 1], m[k + 2], m[k + 5], m[k + 6], m[k + 3], m[k + 4]};
+    int bad = rt_msg_units_decode(m, (size_t)count, units, (size_t)(w->depth - w->qlen), &n) != RT_OK;
+    for (size_t k = 0; k < n && !bad; k++) {
+        const rt_unit u = units[k];
         bad |= u.y1 <= u.y0 || u.y1 > j->height || u.x1 <= u.x0 || u.x1 > j->width || u.s1 <= u.s0 ||
-               u.s1 > j->samples || w->qlen == w->depth;
+               u.s1 > j->samples;
         if (!bad)
             w->queue[(w->qhead + w->qlen++) % w->depth] = u;
     }
     pthread_mutex_unlock(&w->mu);
     free(m);
+    free(units);
     if (bad)
-        rt_farm_fail(w->f, 1, "malformed or unrequested units from rank 0");
+        rt_farm_fail(w->f, RT_EXIT_RUNTIME, "malformed or unrequested units from rank 0");
 }
 
 /* Everything rank 0 sent; returns 1 when something came. */
@@ -242,8 +242,8 @@ static int receive(worker *w)
     for (;;) {
         int flag = 0;
         MPI_Status status;
-        if (rt_msg_probe(0, &flag, &status) != MPI_SUCCESS)
-            rt_farm_fail(w->f, 1, "MPI_Iprobe failed");
+        if (rt_inbox_probe(0, &flag, &status) != MPI_SUCCESS)
+            rt_farm_fail(w->f, RT_EXIT_RUNTIME, "MPI_Iprobe failed");
         if (!flag)
             return got;
         got = 1;
@@ -269,7 +269,7 @@ static int receive(worker *w)
         if (tag == RT_TAG_STOP)
             rt_farm_stop_raise(SIGTERM);
         else if (tag != RT_TAG_IDLE && tag != RT_TAG_FLUSH)
-            rt_farm_fail(w->f, 1, "unexpected message tag %d from rank 0", tag);
+            rt_farm_fail(w->f, RT_EXIT_RUNTIME, "unexpected message tag %d from rank 0", tag);
     }
 }
 
@@ -324,7 +324,7 @@ static int worker_poll(void *ctx, int idle)
     if (got)
         w->idle = 0;
     if (idle && !got) {
-        rt_msg_nap(&w->idle);
+        rt_inbox_nap(&w->idle);
         w->me->wait += rt_now() - t0;
     } else {
         w->me->comm += rt_now() - t0;
@@ -340,51 +340,54 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     w.job = job;
     w.me = me;
     w.t_start = t_start;
-    w.depth = job->prefetch > 0 ? job->prefetch : 2;
+    w.depth = job->prefetch > 0 ? job->prefetch : RT_POLICY_PREFETCH;
     w.stride = 1;
-    w.flush_interval = job->flush_interval > 0 ? job->flush_interval : 0.1;
-    w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)64 << 20;
-    w.beat = (job->lease > 0 ? job->lease : 5.0) / 4;
+    /* never on a timer: an interval no wait reaches */
+    w.flush_interval = job->flush_interval == RT_POLICY_FLUSH_NEVER ? INFINITY : job->flush_interval;
+    w.flush_bytes = job->flush_bytes > 0 ? job->flush_bytes : (size_t)RT_POLICY_FLUSH_MB << 20;
+    w.beat = (job->lease > 0 ? job->lease : RT_POLICY_LEASE) / 4.0;
     w.last_flush = w.last_sent = rt_now();
     /* The first flush comes after a share of the interval that grows with
      * the rank, so that the workers' flushes reach rank 0 spread over each
      * interval, not all at once (by the model, 0.905 -> 0.938 for the
      * default job at 64 x 16, docs/SCALING.md). */
-    if (f->size > 2 && w.flush_interval < 1e29)
+    if (f->size > 2 && isfinite(w.flush_interval))
         w.last_flush -= w.flush_interval * (f->rank - 1) / (f->size - 1);
     atomic_init(&w.ready, 0);
     rt_held_init(&w.held, job->renderer->job.width, job->renderer->lay.ch);
     w.queue = malloc((size_t)w.depth * sizeof *w.queue);
     w.hand = calloc((size_t)w.depth, sizeof *w.hand);
     if (!w.queue || !w.hand)
-        rt_farm_fail(f, 1, "out of memory for work buffers");
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory for work buffers");
     pthread_mutex_init(&w.mu, NULL);
 #ifdef RT_TEST_HOOKS
     /* Test builds only: make one rank fail, to check that the job ends
      * promptly (tests/e2e/e2e_determinism.sh). */
     const char *fault = getenv("RT_FAULT_INJECT_RANK");
     if (fault && atoi(fault) == f->rank)
-        rt_farm_fail(f, 1, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "fault injected for testing (RT_FAULT_INJECT_RANK=%s)", fault);
     /* ... or one rank slow: RT_TEST_SLOW_RANK=rank:ms after each unit */
     const char *slow = getenv("RT_TEST_SLOW_RANK");
     if (slow && atoi(slow) == f->rank && strchr(slow, ':'))
         w.slow_ms = atol(strchr(slow, ':') + 1);
 #endif
     char host[sizeof me->host];
-    rt_farm_hostname(host, sizeof host);
-    send_or_fail(&w, host, (int)strlen(host), MPI_CHAR, RT_TAG_HOST);
+    rt_sysinfo_hostname(host, sizeof host);
+    send_or_fail(&w, host, (int)strlen(host), MPI_BYTE, RT_TAG_HOST);
     int32_t want = w.depth;
     send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
     rt_render_source src = {worker_take, worker_done, worker_poll, &w};
     int st = rt_farm_run_units(job, &src);
     if (st)
-        rt_farm_fail(f, 1, "rendering failed: %s", rt_status_str(st));
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));
     if (RT_FARM_STOPPED())
         stop(&w);
     /* FINISH came: every sum is in, this flush sends nothing. */
     flush(&w);
-    double bye[4] = {me->wait, me->comm, rt_farm_maxrss_mb(), w.held_peak / (1024.0 * 1024.0)};
-    send_or_fail(&w, bye, 4, MPI_DOUBLE, RT_TAG_BYE);
+    const rt_msg_bye b = {me->wait, me->comm, rt_sysinfo_peak_mb(), w.held_peak / (1024.0 * 1024.0)};
+    double bye[RT_MSG_BYE];
+    rt_msg_bye_encode(bye, &b);
+    send_or_fail(&w, bye, RT_MSG_BYE, MPI_DOUBLE, RT_TAG_BYE);
     rt_held_free(&w.held);
     free(w.reports);
     free(w.msg);

@@ -15,7 +15,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "array.h"
 #include "camera.h"
 #include "fileio.h"
 #include "status.h"

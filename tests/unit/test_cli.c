@@ -39,7 +39,7 @@ static void check_err(const char *want)
     CHECK(strstr(err, want) != NULL);
 }
 
-int main(void)
+static void test_defaults(void)
 {
     /* Defaults: the book's final scene at 1200 x 800, 500 spp. */
     CHECK_EQ_INT(parse(NULL), RT_CLI_RUN);
@@ -50,7 +50,10 @@ int main(void)
     CHECK_EQ_U64(opt.job.seed, 42);
     CHECK(!strcmp(opt.scene, "final"));
     CHECK_EQ_INT(opt.accel, RT_ACCEL_BVH);
+}
 
+static void test_farm_knobs(void)
+{
     /* The farm's knobs: how few rows are split, a flush interval in
      * fractions of a second (0: only when asked). */
     CHECK_EQ_INT(opt.split, RT_SPLIT_COLUMNS);
@@ -64,7 +67,10 @@ int main(void)
     check_err("--split: 'rows' is not columns or samples");
     CHECK_EQ_INT(parse("--flush-interval", "-1", NULL), RT_CLI_ERROR);
     check_err("--flush-interval: '-1' is not a number of seconds");
+}
 
+static void test_value_forms(void)
+{
     /* A value after the option, after '=', or attached to a short one. */
     CHECK_EQ_INT(parse("--width", "200", "-s", "8", "-j4", "--seed=7", NULL), RT_CLI_RUN);
     CHECK_EQ_INT(opt.job.width, 200);
@@ -76,7 +82,10 @@ int main(void)
     CHECK_EQ_INT(opt.job.height, 10);
     CHECK_EQ_INT(opt.job.max_depth, 3);
     CHECK(!strcmp(opt.output, "x.ppm"));
+}
 
+static void test_bad_input(void)
+{
     /* Bad input: one line naming the option and what is wrong. */
     CHECK_EQ_INT(parse("--wdith", "3", NULL), RT_CLI_ERROR);
     check_err("unknown option '--wdith'");
@@ -100,7 +109,10 @@ int main(void)
     check_err("--no-checkpoint cannot be combined");
     CHECK_EQ_INT(parse("--width", "1", NULL), RT_CLI_ERROR);
     check_err("gives a height of 0");
+}
 
+static void test_mistyped(void)
+{
     /* A mistyped long option: the nearest one (also for a unique start of
      * one), or only "see --help" when none is near. */
     CHECK_EQ_INT(parse("--wdith", "3", NULL), RT_CLI_ERROR);
@@ -119,7 +131,10 @@ int main(void)
     check_err("unknown option '--bogus' (see --help)");
     CHECK_EQ_INT(parse("--s", "3", NULL), RT_CLI_ERROR); /* the start of several */
     check_err("unknown option '--s' (see --help)");
+}
 
+static void test_scene_word(void)
+{
     /* The scene file as a word of its own, anywhere among the options. */
     CHECK_EQ_INT(parse("-s", "4", "scenes/example.json", "-o", "x.png", NULL), RT_CLI_RUN);
     CHECK(opt.scene_file && !strcmp(opt.scene_file, "scenes/example.json"));
@@ -135,13 +150,19 @@ int main(void)
     check_err("--scene and a scene file: give one or the other");
     CHECK_EQ_INT(parse("", NULL), RT_CLI_ERROR);
     check_err("scene file: empty file name");
+}
 
+static void test_help_wins(void)
+{
     /* --help wins over a run and over other actions; not over bad input
      * met before it. */
     CHECK_EQ_INT(parse("--version", "--help", NULL), RT_CLI_HELP);
     CHECK_EQ_INT(parse("--list-scenes", NULL), RT_CLI_LIST_SCENES);
     CHECK_EQ_INT(parse("--dump-scene", "s.json", NULL), RT_CLI_DUMP_SCENE);
+}
 
+static void test_help_text(void)
+{
     /* The help: every long option, grouped by topic in this order, the
      * developer knobs in a group of their own after the user's, then
      * examples, the environment and the exit status. */
@@ -186,7 +207,10 @@ int main(void)
             fprintf(stderr, "  environment variable%s not in the Environment section\n", env[i] + 2);
         CHECK(at != NULL && at > env_at);
     }
+}
 
+static void test_accel_env(void)
+{
     /* RT_ACCEL: a node's default among our BVH's variants; --accel wins. */
     setenv("RT_ACCEL", "bvh-scalar", 1);
     CHECK_EQ_INT(parse(NULL), RT_CLI_RUN);
@@ -197,7 +221,10 @@ int main(void)
     CHECK_EQ_INT(parse(NULL), RT_CLI_ERROR);
     check_err("RT_ACCEL='brute' is not one of bvh, bvh-sse, bvh-scalar");
     unsetenv("RT_ACCEL");
+}
 
+static void test_whole_numbers(void)
+{
     /* Whole numbers: status codes, the full uint64 range. */
     uint64_t v = 0;
     CHECK_EQ_INT(rt_cli_parse_u64("18446744073709551615", 0, UINT64_MAX, &v), RT_OK);
@@ -207,7 +234,10 @@ int main(void)
     CHECK_EQ_INT(rt_cli_parse_u64("", 0, 9, &v), RT_EINVAL);
     CHECK_EQ_INT(rt_cli_parse_u64("-1", 0, 9, &v), RT_EINVAL);
     CHECK_EQ_INT(rt_cli_parse_u64("1x", 0, 9, &v), RT_EINVAL);
+}
 
+static void test_output_paths(void)
+{
     /* Output paths: a status and a message naming the option. */
     char dir[] = "/tmp/rt-cli-XXXXXX";
     CHECK(mkdtemp(dir) != NULL);
@@ -231,5 +261,20 @@ int main(void)
     CHECK_EQ_INT(parse("-o", path, "--bit-depth", "16", NULL), RT_CLI_RUN);
     CHECK_EQ_INT(rt_cli_check_output(&opt, err, sizeof err), RT_OK);
     rmdir(dir);
+}
+
+int main(void)
+{
+    test_defaults();
+    test_farm_knobs();
+    test_value_forms();
+    test_bad_input();
+    test_mistyped();
+    test_scene_word();
+    test_help_wins();
+    test_help_text();
+    test_accel_env();
+    test_whole_numbers();
+    test_output_paths();
     CHECK_DONE();
 }

@@ -45,7 +45,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
-#include "msg.h" /* the farm's nap and probe: rt_msg_nap, rt_msg_probe */
+#include "inbox.h" /* the farm's nap and probe: rt_inbox_nap, rt_inbox_probe */
 
 enum { TAG_HELLO = 11, TAG_REPORT, TAG_UNITS, TAG_FINISH };
 #define MSG_REPORT 4
@@ -211,9 +211,9 @@ static void root_p2p(const opts *o, int size, root *s)
         reap(s);
         int flag = 0;
         MPI_Status st;
-        rt_msg_probe(MPI_ANY_SOURCE, &flag, &st);
+        rt_inbox_probe(MPI_ANY_SOURCE, &flag, &st);
         if (!flag) {
-            rt_msg_nap(&idle);
+            rt_inbox_nap(&idle);
             continue;
         }
         idle = 0;
@@ -278,7 +278,7 @@ static long worker_p2p(const opts *o)
         for (;;) {
             int flag = 0;
             MPI_Status st;
-            rt_msg_probe(0, &flag, &st);
+            rt_inbox_probe(0, &flag, &st);
             if (!flag)
                 break;
             got = 1;
@@ -298,7 +298,7 @@ static long worker_p2p(const opts *o)
         if (got)
             idle = 0;
         else if (!qlen && !n_rep && !finished)
-            rt_msg_nap(&idle);
+            rt_inbox_nap(&idle);
     }
     free(queue);
     free(m);
@@ -352,10 +352,10 @@ static long root_rma(const opts *o, ledger *L, MPI_Request *end)
             MPI_Probe(MPI_ANY_SOURCE, TAG_REPORT, MPI_COMM_WORLD, &st);
             flag = 1;
         } else {
-            rt_msg_probe(MPI_ANY_SOURCE, &flag, &st);
+            rt_inbox_probe(MPI_ANY_SOURCE, &flag, &st);
         }
         if (!flag) {
-            rt_msg_nap(&idle);
+            rt_inbox_nap(&idle);
             continue;
         }
         idle = 0;
@@ -377,8 +377,8 @@ static long root_rma(const opts *o, ledger *L, MPI_Request *end)
                 if (flag)
                     break;
                 MPI_Status st;
-                rt_msg_probe(MPI_ANY_SOURCE, &flag, &st); /* the farm's loop: nothing comes */
-                rt_msg_nap(&idle);
+                rt_inbox_probe(MPI_ANY_SOURCE, &flag, &st); /* the farm's loop: nothing comes */
+                rt_inbox_nap(&idle);
             }
         }
     }

@@ -1,11 +1,9 @@
-/* stream.c - running a rank's units, on rank 0 and on workers alike: the
- * render stream, or the empty units of the farm benchmark; and the
- * per-unit time accounting both share. */
+/* units.c - running a rank's units, on rank 0 and on workers alike:
+ * rendered (rt_render_stream), or the empty units of the farm benchmark;
+ * and the per-unit time accounting both share. */
 #include "internal.h"
 
 #include <stdlib.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include "status.h"
 
@@ -46,19 +44,4 @@ double rt_farm_unit_start(double taken, double *last, double end)
     double start = taken > *last ? taken : *last;
     *last = end;
     return start;
-}
-
-void rt_farm_hostname(char *buf, size_t n)
-{
-    if (gethostname(buf, n) != 0)
-        buf[0] = 0;
-    buf[n - 1] = 0;
-}
-
-double rt_farm_maxrss_mb(void)
-{
-    struct rusage ru;
-    if (getrusage(RUSAGE_SELF, &ru) != 0)
-        return 0;
-    return (double)ru.ru_maxrss / 1024.0; /* Linux reports KiB */
 }
