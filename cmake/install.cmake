@@ -30,7 +30,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs/images DESTINATION ${CMAKE_INSTALL_
 
 # The Debian package: `cpack -G DEB` in the build directory writes
 # rt-mpi_<version>_<arch>.deb. dpkg-shlibdeps finds the libraries the binary
-# links (Open MPI, libpng, libgomp, cJSON, OpenEXR: whichever this build
+# links (Open MPI, libpng, libgomp, cJSON, OpenEXR, libjpeg: whichever this build
 # has); mpirun is a program, not a library, so openmpi-bin is named here.
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME rt-mpi)

@@ -10,8 +10,8 @@ shift || true
 
 PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
 # Optional features, used when present: scene files and --stats/--trace
-# (cJSON), OpenEXR output.
-PACKAGES+=(libcjson-dev libopenexr-dev)
+# (cJSON), OpenEXR output, JPEG image textures (libjpeg-turbo).
+PACKAGES+=(libcjson-dev libopenexr-dev libjpeg62-turbo-dev)
 # The tests read files back with ImageMagick, python3 and OpenEXR's tools.
 # The fuzzer (scripts/fuzz.sh) also needs clang:
 # RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev".

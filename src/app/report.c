@@ -21,8 +21,8 @@
 
 void rt_report_features(char *buf, size_t n)
 {
-    snprintf(buf, n, "%sopenmp png%s%s%s", strcmp(rt_farm_mpi_version(), "none") ? "mpi " : "",
-             RT_HAVE_EXR ? " exr" : "", RT_HAVE_CJSON ? " json" : "",
+    snprintf(buf, n, "%sopenmp png%s%s%s%s", strcmp(rt_farm_mpi_version(), "none") ? "mpi " : "",
+             RT_HAVE_EXR ? " exr" : "", RT_HAVE_CJSON ? " json" : "", RT_HAVE_JPEG ? " jpeg" : "",
 #ifdef RT_HAVE_EMBREE
              " embree"
 #else

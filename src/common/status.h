@@ -19,7 +19,17 @@
     X(RT_EUNSUPPORTED, -11, "unsupported")                                    \
     X(RT_ENOENT, -12, "directory does not exist")                             \
     X(RT_EACCESS, -13, "directory is not writable")                         \
-    X(RT_ERANGE, -14, "out of range")
+    X(RT_ERANGE, -14, "out of range")                                         \
+    X(RT_ENOFILE, -15, "no such file")                                        \
+    X(RT_EIMAGE_TYPE, -16, "not a PNG or JPEG file")                          \
+    X(RT_EIMAGE_TRUNCATED, -17, "image file is truncated")                    \
+    X(RT_EIMAGE_CORRUPT, -18, "image data is corrupt")                        \
+    X(RT_EIMAGE_CRC, -19, "PNG chunk with a bad CRC (corrupt file)")          \
+    X(RT_EIMAGE_EMPTY, -20, "image has zero width or height")                 \
+    X(RT_EIMAGE_LIMIT, -21, "image exceeds the texture pixel limit")          \
+    X(RT_EIMAGE_CMYK, -22, "CMYK JPEG is not supported (save it as RGB)")     \
+    X(RT_EIMAGE_DEPTH, -23, "12- or 16-bit JPEG is not supported")            \
+    X(RT_ENOJPEG, -24, "this build reads no JPEG (built without libjpeg-turbo)")
 
 typedef enum rt_status {
 #define RT_STATUS_ENUM(name, value, msg) name = value,

@@ -1,7 +1,7 @@
 #!/bin/bash
 # e2e_nofeatures.sh SOURCE_DIR BUILD_DIR FULL_BIN
-# A site without OpenEXR and cJSON: configures a second, small build in
-# BUILD_DIR (OpenEXR hidden from find_package, cJSON turned off; no LTO,
+# A site without OpenEXR, cJSON and libjpeg-turbo: configures a second, small build in
+# BUILD_DIR (OpenEXR hidden from find_package, cJSON and JPEG turned off; no LTO,
 # no tests, only the rt-mpi target), and checks that it builds, links
 # neither library, says what it lacks in --version, refuses .exr output and
 # every option that needs JSON with one line naming the feature and how to
@@ -10,12 +10,12 @@ SRC=$1 NOFEAT=$2 FULL=$3
 source "$(dirname "$0")/../support/lib.sh"
 
 if ! cmake -S "$SRC" -B "$NOFEAT" -DCMAKE_BUILD_TYPE=Release -DRT_LTO=OFF -DBUILD_TESTING=OFF \
-        -DCMAKE_DISABLE_FIND_PACKAGE_OpenEXR=ON -DRT_WITH_CJSON=OFF >"$WORK/configure.log" 2>&1; then
+        -DCMAKE_DISABLE_FIND_PACKAGE_OpenEXR=ON -DRT_WITH_CJSON=OFF -DRT_WITH_JPEG=OFF >"$WORK/configure.log" 2>&1; then
     fail "configure without OpenEXR and cJSON: $(tail -5 "$WORK/configure.log")"
     finish
 fi
 pass "configures without OpenEXR and cJSON"
-grep -q "OpenEXR output OFF .*cJSON OFF " "$WORK/configure.log" &&
+grep -q "OpenEXR output OFF .*cJSON OFF .*JPEG textures OFF " "$WORK/configure.log" &&
     pass "configure says: $(grep 'OpenEXR output' "$WORK/configure.log" | sed 's/^-- //')" ||
     fail "configure does not report the features: $(grep 'rt-mpi' "$WORK/configure.log")"
 if ! nice cmake --build "$NOFEAT" -j 2 --target rt-mpi >"$WORK/build.log" 2>&1; then
@@ -24,10 +24,10 @@ if ! nice cmake --build "$NOFEAT" -j 2 --target rt-mpi >"$WORK/build.log" 2>&1; 
 fi
 BIN=$NOFEAT/rt-mpi
 pass "builds without OpenEXR and cJSON"
-libs=$(ldd "$BIN" | grep -ci 'libcjson\|libopenexr')
-check_eq "links neither cJSON nor OpenEXR (libraries found by ldd)" "$libs" 0
+libs=$(ldd "$BIN" | grep -ci 'libcjson\|libopenexr\|libjpeg')
+check_eq "links none of cJSON, OpenEXR, libjpeg (libraries found by ldd)" "$libs" 0
 check_eq "--version features" "$("$BIN" --version | sed -n 's/^features: //p')" "mpi openmp png"
-check_eq "the full build's features" "$("$FULL" --version | sed -n 's/^features: //p')" "mpi openmp png exr json"
+check_eq "the full build's features" "$("$FULL" --version | sed -n 's/^features: //p')" "mpi openmp png exr json jpeg"
 
 A=(--width 24 --height 16 -s 2 -q --no-checkpoint)
 O="$WORK/out"

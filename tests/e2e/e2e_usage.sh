@@ -19,7 +19,7 @@ grep -q "^scene: *file $SRC/scenes/example.json" "$WORK/pos.out" && pass "the su
     fail "summary: $(grep '^scene' "$WORK/pos.out")"
 
 "$BIN" --version >"$WORK/v.out"
-check_eq "--version: features" "$(sed -n 's/^features: //p' "$WORK/v.out")" "mpi openmp png exr json"
+check_eq "--version: features" "$(sed -n 's/^features: //p' "$WORK/v.out")" "mpi openmp png exr json jpeg"
 MPILIB=$(sed -n 's/^MPI library: //p' "$WORK/v.out")
 case $MPILIB in "Open MPI v"*) pass "--version: MPI library ($MPILIB)" ;; *) fail "--version: MPI library '$MPILIB'" ;; esac
 "$BIN" --help >"$WORK/h.out" 2>"$WORK/h.err"
@@ -48,7 +48,7 @@ want("trace command_line", t["otherData"]["command_line"], argv)
 want("output", s["output"], argv[argv.index("-o") + 1])
 want("mpi", s["mpi"], want_mpi == "true")
 want("ranks", (s["ranks"], len(s["per_rank"])), (int(want_ranks), int(want_ranks)))
-want("features", s["features"], ["mpi", "openmp", "png", "exr", "json"])
+want("features", s["features"], ["mpi", "openmp", "png", "exr", "json", "jpeg"])
 want("host", s["host"], socket.gethostname())
 want("slurm_job_id", s.get("slurm_job_id"), want_slurm or None)
 want("start_time format", bool(re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ", s["start_time"])), True)

@@ -1,13 +1,20 @@
-/* replay.c - regression test: every file of the fuzz corpus and every
+/* replay.c - regression test: every file of a fuzz corpus and every
  * crasher found so far goes through the loader (built normally, no
- * libFuzzer) and must keep fuzz_scene_json_check's properties. */
+ * libFuzzer) and must keep its check's properties: fuzz_scene_json_check's,
+ * or fuzz_texture_image_check's when built with FUZZ_TEXTURE. */
 #include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "fileio.h"
+#ifdef FUZZ_TEXTURE
+#include "texture_image_check.h"
+#define FUZZ_CHECK fuzz_texture_image_check
+#else
 #include "scene_json_check.h"
+#define FUZZ_CHECK fuzz_scene_json_check
+#endif
 #include "status.h"
 
 static int passed, failed;
@@ -20,7 +27,7 @@ static void run_file(const char *path)
         printf("FAIL: %s: cannot read\n", path);
         failed++;
     } else {
-        const char *bad = fuzz_scene_json_check((const uint8_t *)buf, len);
+        const char *bad = FUZZ_CHECK((const uint8_t *)buf, len);
         if (bad) {
             printf("FAIL: %s: %s\n", path, bad);
             failed++;
