@@ -185,16 +185,19 @@ losthost | lostsurvive)
     [[ $CASE == lostsurvive ]] && RECOVER=(--enable-recovery) LEASE=(--lease 2)
     hf=$(hostfile six "n1 slots=2" "n2 slots=2" "n3 slots=2")
     LIMIT=${RT_CLUSTER_LOST_LIMIT:-30}
-    # Long enough that n3 dies mid-render (a job of about 4 s on 2 cores); a
-    # checkpoint every second.
-    LONG=(--width 160 --height 100 -s 1500 -q)
+    # Long enough that n3 dies mid-render (a job of about 6 s on an idle
+    # 2-core box; 1500 spp, 2 s since sampling version 4, was sometimes done
+    # before the kill); a checkpoint every second.
+    LONG=(--width 160 --height 100 -s 4000 -q)
     out=$WORK/lost.png
     cmpirun 300 "$hf" "${RECOVER[@]}" -np 6 "$BIN" "${LONG[@]}" "${LEASE[@]}" -j 1 -o "$out" --checkpoint-interval 1 \
         >"$WORK/lost.out" 2>&1 &
     job=$!
     for ((i = 0; i < 300; i++)); do [[ -s $out.ckpt ]] && break; sleep 0.1; done
     [[ -s $out.ckpt ]] || fail "no checkpoint within 30 s of the start"
-    sleep 1
+    # killed as soon as the first checkpoint shows it rendering: no fixed
+    # sleep, so the job (about 6 s of work on an idle 2-core box) is far
+    # from done whatever the machine's speed
     t=$(now)
     if [[ $CASE == lostsurvive ]]; then
         # The ranks only: Open MPI 4.1's mpirun aborts the job when it loses
@@ -315,15 +318,15 @@ slurm | slurmlost)
         # ranks finish the image, and the script exits 0 on rank 0's done
         # file although srun reports the dead tasks. Slurm itself waits for
         # the dead node a long time, so the job's log is what is checked.
-        LONG=(--width 160 --height 100 -s 1500)
+        # (4000 spp: about 6 s of work, far from done at the first checkpoint)
+        LONG=(--width 160 --height 100 -s 4000)
         "$SERIAL" "${LONG[@]}" -q --no-checkpoint -j 2 -o "$WORK/ref-long.png" >/dev/null
         REF=$WORK/ref-long.png
         out=$WORK/lostnode.png
-        j=$(RT_LAUNCHER=srun RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=1500 RT_ARGS="-q --lease 4 --checkpoint-interval 1" \
+        j=$(RT_LAUNCHER=srun RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=4000 RT_ARGS="-q --lease 4 --checkpoint-interval 1" \
             submit lostnode -N 3 --ntasks-per-node=2 -c 1 "$SCRIPT") || { fail "sbatch -N 3 (srun) refused"; finish; }
         for ((i = 0; i < 600; i++)); do [[ -s $out.ckpt ]] && break; sleep 0.1; done
         [[ -s $out.ckpt ]] || { fail "job $j: no checkpoint within 60 s of the start"; show "$WORK/lostnode-$j.out"; finish; }
-        sleep 1
         t=$(now)
         victims=$(ip netns pids "$(cat "$RT_CLUSTER/hosts/n3.net")" | wc -l)
         cluster_kill n3 KILL
