@@ -7,6 +7,7 @@
 #include "assemble.h"
 #include "held.h"
 #include "ledger.h"
+#include "msg.h"
 #include "farm.h"
 #include "sysinfo.h"
 
@@ -32,7 +33,8 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
 double rt_farm_unit_start(double taken, double *last, double end);
 
 /* root.c: rank 0's state, shared by its render thread and its main thread
- * (the server). Everything in it is guarded by mu. */
+ * (the server). Everything in it is guarded by mu; the server reads none
+ * of it but through the rt_root_* verbs below, which take the lock. */
 typedef struct rt_root {
     pthread_mutex_t mu;
     const rt_farm_job *job;
@@ -51,11 +53,34 @@ int rt_root_take(rt_root *R, int rank, rt_unit *u);
 int rt_root_save_now(rt_root *R);
 /* Main thread: progress, previews and periodic saves, as due. */
 void rt_root_tick(rt_root *R);
+/* A status: rendering on rank 0 failed; *complete: every unit is in. */
+int rt_root_error(rt_root *R, int *complete);
+/* Units rank is assigned (not yet reported done) / done but still holds. */
+uint32_t rt_root_assigned(rt_root *R, int rank);
+uint32_t rt_root_held(rt_root *R, int rank);
+/* Whether pass is done and another pass follows it. */
+int rt_root_pass_done(rt_root *R, uint32_t pass);
+/* rank is lost at now (last heard from at heard): its units go back to
+ * the queue; how many. *complete as for rt_root_error. */
+uint32_t rt_root_lose(rt_root *R, int rank, double now, double heard, int *complete);
+/* rank reports a unit done: RT_EINVAL when it does not hold it. */
+int rt_root_report(rt_root *R, int rank, const rt_msg_report *rep);
+/* What a piece of sums may hold: the image's bounds, ids, channels. */
+void rt_root_bounds(rt_root *R, rt_unit *bounds, uint32_t *max_ids, size_t *ch);
+/* A piece of sums from rank: RT_EFORMAT when its units are not the
+ * schedule's of its block or do not cover its samples exactly, RT_EINVAL
+ * when rank does not hold one of them. A failure to add it is kept as the
+ * error (rt_root_error). */
+int rt_root_sums(rt_root *R, int rank, const rt_msg_piece *pc);
+/* rank's last words, and its node's name. */
+void rt_root_bye(rt_root *R, int rank, const rt_msg_bye *b);
+void rt_root_host(rt_root *R, int rank, const char *host);
 
 #ifdef RT_HAVE_MPI
 /* server.c: rank 0's main thread hands out units and takes in results
- * until every rank is done (returns early on a signal). */
-void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res);
+ * until every rank is done (returns early on a signal). It moves messages
+ * and calls root.c's verbs; rank0.c calls it, so the arrows point one way. */
+void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_result *res);
 /* worker.c: a rank other than 0 renders the units rank 0 sends. */
 void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
 #endif

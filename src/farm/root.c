@@ -1,8 +1,6 @@
-/* root.c - rank 0, and the farm's entry point. Rank 0's main thread is the
- * server (server.c) and calls the job's hooks; a second thread renders
- * units from the same queue with the job's OpenMP threads. Alone (one
- * rank, or no MPI) the render loop calls the hooks itself. Only the main
- * thread calls MPI (MPI_THREAD_FUNNELED).
+/* root.c - rank 0's state (ledger, assembly, stats, error) and the verbs
+ * its two threads use on it; each takes the lock itself and takes and
+ * gives values. It calls neither the server nor rank0.c.
  *
  * Results are fixed-point sums (render.h), so the order in which they
  * arrive does not change a single bit of the image. */
@@ -12,12 +10,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#ifdef RT_HAVE_MPI
-#include <mpi.h>
-#endif
-
 #include "clock.h"
 #include "mem.h"
+#include "msg.h"
 #include "status.h"
 
 int rt_root_take(rt_root *R, int rank, rt_unit *u)
@@ -128,132 +123,116 @@ void rt_root_tick(rt_root *R)
 
 int rt_root_save_now(rt_root *R) { return save_hook(R, 1); }
 
-/* A signal arrived: save what is complete and end the job. */
-static void interrupted(const rt_farm *f, rt_root *R)
-{
-    int sig = RT_FARM_STOPPED();
-    int saved = save_hook(R, 1);
-    const rt_farm_hooks *h = &R->job->hooks;
-    if (h->stopped)
-        h->stopped(h->ctx, sig, saved, R->as.sched.rows_done, R->as.sched.height);
-    rt_farm_exit(f, RT_EXIT_INTERRUPTED);
-}
 
-/* Rank 0's own rendering (all of it when there is no server): units from
- * the shared queue, rendered as one stream so that its threads never wait
- * for each other between units. */
-typedef struct local {
-    rt_root *R;
-    double *taken; /* per unit id: when it was taken */
-    double last;   /* when the previous unit was done */
-} local;
-
-static int local_take(void *ctx, rt_unit *u)
+int rt_root_error(rt_root *R, int *complete)
 {
-    local *L = ctx;
-    if (!rt_root_take(L->R, 0, u))
-        return 0;
-    L->taken[u->id] = rt_now() - L->R->t0;
-    return 1;
-}
-
-static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
-{
-    local *L = ctx;
-    rt_root *R = L->R;
-    double end = rt_now() - R->t0;
-    double start = rt_farm_unit_start(L->taken[u->id], &L->last, end);
     pthread_mutex_lock(&R->mu);
-    int st = rt_ledger_done(&R->led, 0, u->id) && rt_ledger_in(&R->led, 0, u->id)
-                 ? rt_assembly_add(&R->as, 0, u, sums, segs, start, end)
-                 : RT_EINVAL;
+    *complete = rt_assembly_complete(&R->as);
+    int err = R->error;
+    pthread_mutex_unlock(&R->mu);
+    return err;
+}
+
+uint32_t rt_root_assigned(rt_root *R, int rank)
+{
+    pthread_mutex_lock(&R->mu);
+    uint32_t n = R->led.assigned[rank];
+    pthread_mutex_unlock(&R->mu);
+    return n;
+}
+
+uint32_t rt_root_held(rt_root *R, int rank)
+{
+    pthread_mutex_lock(&R->mu);
+    uint32_t n = R->led.held[rank];
+    pthread_mutex_unlock(&R->mu);
+    return n;
+}
+
+int rt_root_pass_done(rt_root *R, uint32_t pass)
+{
+    pthread_mutex_lock(&R->mu);
+    int done = pass + 1 < R->led.passes && rt_ledger_pass_done(&R->led, pass);
+    pthread_mutex_unlock(&R->mu);
+    return done;
+}
+
+uint32_t rt_root_lose(rt_root *R, int rank, double now, double heard, int *complete)
+{
+    pthread_mutex_lock(&R->mu);
+    /* what the loss costs: the rendering of units it reported done but
+     * whose sums it still held */
+    const double redone = rt_ledger_held_sum(&R->led, rank, R->as.unit_secs);
+    uint32_t back = rt_ledger_lose(&R->led, rank);
+    rt_rank_stats *st = &R->as.stats[rank];
+    st->lost = 1;
+    st->lost_at = now - R->t0;
+    st->silent = now - heard;
+    st->redone = redone;
+    st->units_redone = back;
+    *complete = rt_assembly_complete(&R->as);
+    pthread_mutex_unlock(&R->mu);
+    return back;
+}
+
+int rt_root_report(rt_root *R, int rank, const rt_msg_report *rep)
+{
+    pthread_mutex_lock(&R->mu);
+    int ok = rt_ledger_done(&R->led, rank, rep->id);
+    if (ok)
+        rt_assembly_account(&R->as, rank, rt_sched_unit(&R->as.sched, rep->id), rep->segs, rep->start, rep->end);
+    pthread_mutex_unlock(&R->mu);
+    return ok ? RT_OK : RT_EINVAL;
+}
+
+void rt_root_bounds(rt_root *R, rt_unit *bounds, uint32_t *max_ids, size_t *ch)
+{
+    /* the schedule's shape does not change after rt_assembly_init */
+    const rt_sched *sc = &R->as.sched;
+    *bounds = (rt_unit){0, 0, sc->height, 0, sc->samples, 0, sc->width};
+    *max_ids = sc->n_units;
+    *ch = R->as.row / sc->width;
+}
+
+int rt_root_sums(rt_root *R, int rank, const rt_msg_piece *pc)
+{
+    const rt_sched *sc = &R->as.sched;
+    const rt_unit block = pc->block;
+    uint64_t covered = 0;
+    int ok = 1;
+    for (size_t k = 0; ok && k < pc->n_ids; k++) {
+        const rt_unit *u =
+            pc->ids[k] >= 0 && pc->ids[k] <= UINT32_MAX ? rt_sched_unit(sc, (uint32_t)pc->ids[k]) : NULL;
+        ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->x0 == block.x0 && u->x1 == block.x1 &&
+             u->s0 >= block.s0 && u->s1 <= block.s1;
+        covered += ok ? u->s1 - u->s0 : 0;
+    }
+    if (!ok || covered != block.s1 - block.s0)
+        return RT_EFORMAT;
+    pthread_mutex_lock(&R->mu);
+    for (size_t k = 0; k < pc->n_ids; k++)
+        if (!rt_ledger_in(&R->led, rank, (uint32_t)pc->ids[k])) {
+            pthread_mutex_unlock(&R->mu);
+            return RT_EINVAL;
+        }
+    int st = rt_assembly_sums(&R->as, &block, pc->sums, pc->n_ids);
     if (st && !R->error)
         R->error = st;
     pthread_mutex_unlock(&R->mu);
-    if (L->R->serial)
-        rt_root_tick(L->R);
+    return RT_OK;
 }
 
-static void *local_loop(void *arg)
+void rt_root_bye(rt_root *R, int rank, const rt_msg_bye *b)
 {
-    rt_root *R = arg;
-    local L = {R, calloc(R->as.sched.n_units ? R->as.sched.n_units : 1, sizeof *L.taken), 0};
-    rt_render_source src = {local_take, local_done, NULL, &L};
-    int st = L.taken ? rt_farm_run_units(R->job, &src) : RT_ENOMEM;
-    if (st) {
-        pthread_mutex_lock(&R->mu);
-        R->error = st;
-        pthread_mutex_unlock(&R->mu);
-    }
-    free(L.taken);
-    return NULL;
+    pthread_mutex_lock(&R->mu);
+    rt_rank_stats *st = &R->as.stats[rank];
+    st->wait = b->wait, st->comm = b->comm, st->maxrss_mb = b->peak_mb, st->held_mb = b->held_mb;
+    pthread_mutex_unlock(&R->mu);
 }
 
-static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, double t0)
+void rt_root_host(rt_root *R, int rank, const char *host)
 {
-    rt_root R;
-    memset(&R, 0, sizeof R);
-    pthread_mutex_init(&R.mu, NULL);
-    R.job = job;
-    R.t0 = R.last_save = t0;
-    int st = rt_assembly_init(&R.as, &job->renderer->job, &job->sched, job->committed, job->acc, f->size,
-                              job->trace);
-    if (!st)
-        st = rt_ledger_init(&R.led, &R.as.sched, f->size);
-    if (st)
-        rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot plan the work units: %s", rt_status_str(st));
-    res->units = R.as.sched.n_units;
-    if (f->size == 1) {
-        R.serial = 1;
-        local_loop(&R);
-    }
-#ifdef RT_HAVE_MPI
-    else {
-        pthread_t th;
-        int render = !job->root_serves_only;
-        if (render && pthread_create(&th, NULL, local_loop, &R) != 0)
-            rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot start the render thread on rank 0");
-        rt_farm_serve(f, &R, res);
-        if (render)
-            pthread_join(th, NULL);
-    }
-#endif
-    if (RT_FARM_STOPPED())
-        interrupted(f, &R);
-    if (R.error)
-        rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(R.error));
-    res->wall = rt_now() - t0;
-    R.as.stats[0].maxrss_mb = rt_sysinfo_peak_mb();
-    rt_sysinfo_hostname(R.as.stats[0].host, sizeof R.as.stats[0].host);
-    res->ranks = R.as.stats;
-    res->segments = R.as.segments;
-    res->trace = R.as.trace;
-    res->n_trace = R.as.n_trace;
-    R.as.stats = NULL; /* the caller's now */
-    R.as.trace = NULL;
-    rt_assembly_free(&R.as);
-    rt_ledger_free(&R.led);
-    pthread_mutex_destroy(&R.mu);
-}
-
-void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
-{
-    memset(res, 0, sizeof *res);
-    rt_farm_signals_install();
-#ifdef RT_HAVE_MPI
-    if (f->mpi && f->size > 1)
-        MPI_Barrier(MPI_COMM_WORLD); /* common time origin for the trace */
-#endif
-    double t0 = rt_now();
-    if (f->rank == 0) {
-        run_root(f, job, res, t0);
-        return;
-    }
-#ifdef RT_HAVE_MPI
-    rt_rank_stats mine;
-    memset(&mine, 0, sizeof mine);
-    rt_farm_work(f, job, &mine, t0);
-    res->wall = rt_now() - t0;
-    res->segments = (uint64_t)mine.segments;
-#endif
+    pthread_mutex_lock(&R->mu);
+    snprintf(R->as.stats[rank].host, sizeof R->as.stats[rank].host, "%s", host);
+    pthread_mutex_unlock(&R->mu);
 }

@@ -48,6 +48,7 @@ typedef struct outgoing {
 
 typedef struct server {
     rt_farm *f;
+    const rt_farm_job *job;
     rt_root *R;
     rt_farm_result *res;
     peer *peers;
@@ -123,9 +124,7 @@ static void serve_peer(server *s, int r)
             lose(s, r, "sending it units failed");
         return;
     }
-    pthread_mutex_lock(&s->R->mu);
-    int none = s->R->led.assigned[r] == 0;
-    pthread_mutex_unlock(&s->R->mu);
+    int none = rt_root_assigned(s->R, r) == 0;
     if (p->alive && none && !p->idle_sent && !s->finishing) {
         p->idle_sent = 1;
         if (post(s, r, RT_TAG_IDLE, MPI_BYTE, NULL, 0, 1) != MPI_SUCCESS)
@@ -148,25 +147,14 @@ static void lose(server *s, int r, const char *why)
     s->peers[r].alive = 0;
     s->res->lost++;
     const double now = rt_now();
-    pthread_mutex_lock(&s->R->mu);
-    /* what the loss costs: the rendering of units it reported done but
-     * whose sums it still held */
-    const double redone = rt_ledger_held_sum(&s->R->led, r, s->R->as.unit_secs);
-    uint32_t back = rt_ledger_lose(&s->R->led, r);
-    rt_rank_stats *st = &s->R->as.stats[r];
-    st->lost = 1;
-    st->lost_at = now - s->R->t0;
-    st->silent = now - s->peers[r].heard;
-    st->redone = redone;
-    st->units_redone = back;
-    int complete = rt_assembly_complete(&s->R->as);
-    pthread_mutex_unlock(&s->R->mu);
+    int complete;
+    uint32_t back = rt_root_lose(s->R, r, now, s->peers[r].heard, &complete);
     fprintf(stderr, "rt-mpi: warning: rank %d lost (%s): %u unit%s go%s to the other ranks\n", r, why, back,
             back == 1 ? "" : "s", back == 1 ? "es" : "");
     int left = 0;
     for (int q = 1; q < s->f->size; q++)
         left += s->peers[q].alive;
-    if (!left && s->R->job->root_serves_only && !complete)
+    if (!left && s->job->root_serves_only && !complete)
         rt_farm_fail(s->f, RT_EXIT_RUNTIME, "every rank that renders is lost");
     serve_all(s);
 }
@@ -175,9 +163,7 @@ static void lose(server *s, int r, const char *why)
 static void ask_sums(server *s)
 {
     for (int r = 1; r < s->f->size; r++) {
-        pthread_mutex_lock(&s->R->mu);
-        int held = s->R->led.held[r] > 0;
-        pthread_mutex_unlock(&s->R->mu);
+        int held = rt_root_held(s->R, r) > 0;
         if (s->peers[r].alive && held && post(s, r, RT_TAG_FLUSH, MPI_BYTE, NULL, 0, 1) != MPI_SUCCESS)
             lose(s, r, "sending to it failed");
     }
@@ -188,17 +174,12 @@ static void on_report(server *s, int r, const int64_t *m, int count)
     size_t n;
     if (rt_msg_reports((size_t)count, &n))
         rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed report from rank %d", r);
-    pthread_mutex_lock(&s->R->mu);
     for (size_t k = 0; k < n; k++) {
         const rt_msg_report rep = rt_msg_report_decode(m, k);
-        if (!rt_ledger_done(&s->R->led, r, rep.id)) {
-            pthread_mutex_unlock(&s->R->mu);
+        if (rt_root_report(s->R, r, &rep))
             rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d reported unit %lld, which it does not hold", r,
                          (long long)m[k * RT_MSG_REPORT]);
-        }
-        rt_assembly_account(&s->R->as, r, rt_sched_unit(&s->R->as.sched, rep.id), rep.segs, rep.start, rep.end);
     }
-    pthread_mutex_unlock(&s->R->mu);
     s->last_done = rt_now();
     s->peers[r].credit += (int)n;
     serve_peer(s, r);
@@ -210,33 +191,17 @@ static void on_report(server *s, int r, const int64_t *m, int count)
  * s1). Returns the int64 it took. */
 static size_t on_piece(server *s, int r, const int64_t *m, size_t count)
 {
-    rt_assembly *a = &s->R->as;
-    const rt_sched *sc = &a->sched;
-    const rt_unit bounds = {0, 0, sc->height, 0, sc->samples, 0, sc->width};
+    rt_unit bounds;
+    uint32_t max_ids;
+    size_t ch;
+    rt_root_bounds(s->R, &bounds, &max_ids, &ch);
     rt_msg_piece pc;
-    int ok = rt_msg_piece_decode(m, count, &bounds, sc->n_units, a->row / sc->width, &pc) == RT_OK;
-    const rt_unit block = pc.block;
-    const size_t n_ids = pc.n_ids;
-    uint64_t covered = 0;
-    for (size_t k = 0; ok && k < n_ids; k++) {
-        const rt_unit *u =
-            pc.ids[k] >= 0 && pc.ids[k] <= UINT32_MAX ? rt_sched_unit(sc, (uint32_t)pc.ids[k]) : NULL;
-        ok = u && u->y0 == block.y0 && u->y1 == block.y1 && u->x0 == block.x0 && u->x1 == block.x1 &&
-             u->s0 >= block.s0 && u->s1 <= block.s1;
-        covered += ok ? u->s1 - u->s0 : 0;
-    }
-    if (!ok || covered != block.s1 - block.s0)
+    /* any failure to decode is malformed; RT_EINVAL is only the ledger's */
+    int st = rt_msg_piece_decode(m, count, &bounds, max_ids, ch, &pc) ? RT_EFORMAT : rt_root_sums(s->R, r, &pc);
+    if (st == RT_EINVAL)
+        rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d sent sums of a unit it does not hold", r);
+    if (st)
         rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed sums from rank %d", r);
-    pthread_mutex_lock(&s->R->mu);
-    for (size_t k = 0; k < n_ids; k++)
-        if (!rt_ledger_in(&s->R->led, r, (uint32_t)pc.ids[k])) {
-            pthread_mutex_unlock(&s->R->mu);
-            rt_farm_fail(s->f, RT_EXIT_RUNTIME, "rank %d sent sums of a unit it does not hold", r);
-        }
-    int st = rt_assembly_sums(a, &block, pc.sums, (uint32_t)n_ids);
-    if (st && !s->R->error)
-        s->R->error = st;
-    pthread_mutex_unlock(&s->R->mu);
     return pc.len;
 }
 
@@ -252,10 +217,7 @@ static void on_bye(server *s, int r, const double *m, int count)
     rt_msg_bye b;
     if (rt_msg_bye_decode(m, (size_t)count, &b))
         rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed bye from rank %d", r);
-    pthread_mutex_lock(&s->R->mu);
-    rt_rank_stats *st = &s->R->as.stats[r];
-    st->wait = b.wait, st->comm = b.comm, st->maxrss_mb = b.peak_mb, st->held_mb = b.held_mb;
-    pthread_mutex_unlock(&s->R->mu);
+    rt_root_bye(s->R, r, &b);
     s->peers[r].bye = 1;
 }
 
@@ -320,11 +282,10 @@ static void receive(server *s, const MPI_Status *status)
         p->stopped = 1;
         break;
     case RT_TAG_HOST: {
-        pthread_mutex_lock(&s->R->mu);
-        int st = rt_msg_host_decode(s->buf, (size_t)count, s->R->as.stats[r].host, sizeof s->R->as.stats[r].host);
-        pthread_mutex_unlock(&s->R->mu);
-        if (st)
+        char host[sizeof ((rt_rank_stats *)0)->host];
+        if (rt_msg_host_decode(s->buf, (size_t)count, host, sizeof host))
             rt_farm_fail(s->f, RT_EXIT_RUNTIME, "malformed host name from rank %d", r);
+        rt_root_host(s->R, r, host);
         break;
     }
     case RT_TAG_BEAT:
@@ -394,10 +355,8 @@ static void stop_workers(server *s)
 /* Progressive passes and checkpoints want the sums the workers hold. */
 static void ask_when_due(server *s)
 {
-    const rt_farm_hooks *h = &s->R->job->hooks;
-    pthread_mutex_lock(&s->R->mu);
-    int pass_done = s->pass_asked + 1 < s->R->led.passes && rt_ledger_pass_done(&s->R->led, s->pass_asked);
-    pthread_mutex_unlock(&s->R->mu);
+    const rt_farm_hooks *h = &s->job->hooks;
+    int pass_done = rt_root_pass_done(s->R, s->pass_asked);
     double now = rt_now();
     int ckpt = h->save && now >= s->next_flush;
     if (ckpt)
@@ -417,17 +376,17 @@ static double thread_cpu(void)
            1e-6 * ru.ru_stime.tv_usec;
 }
 
-void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
+void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_result *res)
 {
     server s;
     memset(&s, 0, sizeof s);
-    s.f = f, s.R = R, s.res = res;
+    s.f = f, s.job = job, s.R = R, s.res = res;
     s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory on rank 0");
-    s.lease = R->job->lease > 0 ? R->job->lease : RT_POLICY_LEASE;
+    s.lease = job->lease > 0 ? job->lease : RT_POLICY_LEASE;
     double cpu0 = thread_cpu(), now = rt_now();
-    s.next_flush = now + R->job->hooks.save_interval / 2;
+    s.next_flush = now + job->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)
         s.peers[r] = (peer){1, now, 0, 0, 0, 0};
     int idle = 0;
@@ -436,9 +395,8 @@ void rt_farm_serve(rt_farm *f, rt_root *R, rt_farm_result *res)
             stop_workers(&s); /* the caller saves and ends the job */
             break;
         }
-        pthread_mutex_lock(&R->mu);
-        int complete = rt_assembly_complete(&R->as), err = R->error;
-        pthread_mutex_unlock(&R->mu);
+        int complete;
+        int err = rt_root_error(R, &complete);
         if (err)
             rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering on rank 0 failed: %s", rt_status_str(err));
         rt_root_tick(R);
