@@ -47,19 +47,6 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
     return (uint32_t)segs;
 }
 
-uint32_t rt_render_adapt_count(double sum, double sum2, uint32_t n, double threshold, uint32_t samples)
-{
-    const double mean = sum / n, ref = mean > RT_ADAPT_FLOOR ? mean : RT_ADAPT_FLOOR;
-    double var = (sum2 - sum * mean) / (double)(n - 1);
-    var = var > 0.0 ? var : 0.0;
-    /* the standard error of the mean of m samples is sqrt(var / m) */
-    const double need = var / (threshold * ref * threshold * ref);
-    uint32_t m = RT_ADAPT_FIRST;
-    while (m < samples && (double)m < need)
-        m *= 2;
-    return m < samples ? m : samples;
-}
-
 uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t *segments)
 {
     const pixel_ctx pc = pixel_start(r, x, y, pixel_key(r, x, y), 0);
