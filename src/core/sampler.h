@@ -252,8 +252,10 @@ static inline uint32_t rt_sampler_first(const rt_sampler *s, uint32_t pair)
     if (pair < RT_SAMPLER_KEPT)
         return (pair ? rt_sampler_nested(s->rev_index, s->px->seed[pair]) : s->rev_index) ^
                (uint32_t)(s->px->shift[pair] >> 32);
-    const uint64_t h = rt_sampler_pair_hash(s->px->key, pair); /* rt_sampler_pair_keys' */
-    return rt_sampler_nested(s->rev_index, (uint32_t)h) ^ (uint32_t)(h >> 32);
+    uint32_t seed;
+    uint64_t shift;
+    rt_sampler_pair_keys(s->px->key, pair, &seed, &shift);
+    return rt_sampler_nested(s->rev_index, seed) ^ (uint32_t)(shift >> 32);
 }
 
 /* The next 1D number, in (0, 1) ([0, 1) for random). */
