@@ -25,6 +25,14 @@ void rt_scene_free(rt_scene *s)
 {
     free(s->spheres);
     free(s->materials);
+    free(s->shapes.quads.items);
+    free(s->shapes.movers.items);
+    free(s->shapes.frames.items);
+    free(s->media.media.items);
+    free(s->media.hull.items);
+    free(s->tex.textures.items);
+    free(s->tex.images.items);
+    free(s->tex.texels);
     memset(s, 0, sizeof *s);
 }
 
@@ -57,6 +65,7 @@ int rt_scene_add_sphere(rt_scene *s, rt_vec3 center, double radius, uint32_t mat
     sp->center = center;
     sp->radius = radius;
     sp->material = material;
+    sp->frame = 0;
     return RT_OK;
 }
 
@@ -69,17 +78,17 @@ int rt_scene_add(rt_scene *s, rt_vec3 c, double r, rt_material m)
 
 rt_material rt_scene_lambertian(rt_vec3 albedo)
 {
-    rt_material m = {RT_MAT_LAMBERTIAN, albedo, 0.0, 1.0};
+    rt_material m = {.kind = RT_MAT_LAMBERTIAN, .albedo = albedo, .fuzz = 0.0, .ior = 1.0};
     return m;
 }
 rt_material rt_scene_metal(rt_vec3 albedo, double fuzz)
 {
-    rt_material m = {RT_MAT_METAL, albedo, fuzz < 1.0 ? fuzz : 1.0, 1.0};
+    rt_material m = {.kind = RT_MAT_METAL, .albedo = albedo, .fuzz = fuzz < 1.0 ? fuzz : 1.0, .ior = 1.0};
     return m;
 }
 rt_material rt_scene_dielectric(double ior)
 {
-    rt_material m = {RT_MAT_DIELECTRIC, rt_v3(1, 1, 1), 0.0, ior};
+    rt_material m = {.kind = RT_MAT_DIELECTRIC, .albedo = rt_v3(1, 1, 1), .fuzz = 0.0, .ior = ior};
     return m;
 }
 

@@ -13,29 +13,159 @@ typedef enum rt_material_kind {
     RT_MAT_LAMBERTIAN = 0,
     RT_MAT_METAL = 1,
     RT_MAT_DIELECTRIC = 2,
+    RT_MAT_EMITTER = 3,   /* book 2's diffuse_light: emits, never scatters */
+    RT_MAT_ISOTROPIC = 4, /* a medium's phase function: uniform over the sphere */
 } rt_material_kind;
+
+/* rt_material.flags */
+#define RT_MAT_TWO_SIDED 1u /* an emitter that emits from both faces (book 2); else the front face only (book 3) */
 
 typedef struct rt_material {
     uint32_t kind;  /* rt_material_kind */
-    rt_vec3 albedo; /* lambertian and metal */
+    rt_vec3 albedo; /* lambertian, metal, isotropic: the colour when texture is 0 */
     double fuzz;    /* metal, in [0, 1] */
     double ior;     /* dielectric index of refraction */
+    uint32_t texture; /* lambertian, isotropic, emitter: 0 none, else 1 + index into tex.textures */
+    uint32_t flags;   /* RT_MAT_* flags */
+    rt_vec3 emit;     /* emitter: radiance when texture is 0 (else the texture's value) */
 } rt_material;
 
 /* A negative radius keeps the geometry of |radius| but flips the normal:
- * the book's hollow glass sphere. */
+ * the book's hollow glass sphere. frame: 0, or 1 + the index of the
+ * rotation (shapes.frames) its (u, v) are taken in: a sphere of a rotated instance
+ * keeps the texture it had before the rotation. Spatial textures (checker,
+ * noise) are evaluated at the world-space hit point, as the book does. */
 typedef struct rt_sphere {
     rt_vec3 center;
     double radius;
     uint32_t material;
+    uint32_t frame;
 } rt_sphere;
+
+/* ---- book 2: shapes, textures, media ------------------------------------- *
+ * Instances (translations, rotations about y, and any rigid motion with a
+ * uniform scale) are flattened when the scene is built: their spheres,
+ * quads and moving spheres are stored in world space, which is exact for
+ * these shapes (a rotated quad is a quad, a rotated sphere a sphere). */
+
+/* The book's quad: the parallelogram q + a u + b v, a and b in [0, 1];
+ * its normal is unit(u x v) (the front face), its (u, v) are (a, b).
+ * A box is six of them. */
+typedef struct rt_quad {
+    rt_vec3 q, u, v;
+    uint32_t material;
+} rt_quad;
+
+/* A sphere whose centre moves from center0 at time 0 to center1 at time 1
+ * (linear in the ray's time, which is in [0, 1)). */
+typedef struct rt_mover {
+    rt_vec3 center0, center1;
+    double radius;
+    uint32_t material;
+    uint32_t frame; /* as rt_sphere's */
+} rt_mover;
+
+/* A rotation, world to object: row k is object axis k in world space. */
+typedef struct rt_frame {
+    rt_vec3 row[3];
+} rt_frame;
+
+typedef enum rt_texture_kind {
+    RT_TEX_SOLID = 0,   /* color */
+    RT_TEX_CHECKER = 1, /* the book's spatial checker: cells of size scale, textures even and odd */
+    RT_TEX_NOISE = 2,   /* Perlin noise at frequency scale (the scene's noise tables), mode rt_noise_mode */
+    RT_TEX_IMAGE = 3,   /* image `image`, by (u, v), nearest texel as the book */
+} rt_texture_kind;
+
+typedef enum rt_noise_mode {
+    RT_NOISE_PLAIN = 0,  /* 0.5 (1 + noise(scale p)) */
+    RT_NOISE_TURB = 1,   /* turbulence(scale p), 7 octaves */
+    RT_NOISE_MARBLE = 2, /* 0.5 (1 + sin(scale p.z + 10 turbulence(scale p))): book 2's final noise_texture */
+} rt_noise_mode;
+
+typedef struct rt_texture {
+    uint32_t kind;      /* rt_texture_kind */
+    rt_vec3 color;      /* solid; noise: the colour the noise scales (the book's white) */
+    double scale;       /* checker: cell size; noise: frequency */
+    uint32_t even, odd; /* checker: indices of textures listed before this one */
+    uint32_t mode;      /* noise: rt_noise_mode */
+    uint32_t image;     /* image: index into images */
+} rt_texture;
+
+/* An image's texels: width * height x 3 bytes (8-bit R, G, B as in the
+ * file, row-major from the top row) at texels + offset. The book divides
+ * them by 255 and uses them as albedo, with no decoding of sRGB. */
+typedef struct rt_image {
+    uint32_t width, height;
+    uint64_t offset;
+} rt_image;
+
+/* A constant-density medium (book 2's constant_medium) inside a closed
+ * convex boundary: a sphere (shape RT_MEDIUM_SPHERE) or the quads
+ * [first, first + count) of hull (RT_MEDIUM_HULL, a box's six). The
+ * boundary is not a surface: a visible one (the book's glass ball) is a
+ * sphere of its own. material: isotropic. The camera may be inside. */
+typedef enum rt_medium_shape {
+    RT_MEDIUM_SPHERE = 0,
+    RT_MEDIUM_HULL = 1,
+} rt_medium_shape;
+
+typedef struct rt_medium {
+    uint32_t shape; /* rt_medium_shape */
+    rt_vec3 center; /* sphere */
+    double radius;  /* sphere */
+    uint32_t first, count; /* hull quads */
+    double density; /* > 0 */
+    uint32_t material;
+} rt_medium;
+
+/* A growing list of T: items, n, cap. */
+#define RT_LIST(T)                                                                                                    \
+    struct {                                                                                                          \
+        T *items;                                                                                                     \
+        uint32_t n;                                                                                                   \
+        size_t cap;                                                                                                   \
+    }
+
+/* What the book-2 scenes add; all empty in book 1's. */
+/* Index fields that say "0: none, else 1 + index" (texture, frame) keep
+ * a zero-initialised record plain. */
+typedef struct rt_scene_shapes {
+    RT_LIST(rt_quad) quads;
+    RT_LIST(rt_mover) movers;
+    RT_LIST(rt_frame) frames;
+} rt_scene_shapes;
+
+typedef struct rt_scene_media {
+    RT_LIST(rt_medium) media;
+    RT_LIST(rt_quad) hull; /* the media's boundaries; not surfaces */
+} rt_scene_media;
+
+typedef struct rt_scene_textures {
+    RT_LIST(rt_texture) textures;
+    RT_LIST(rt_image) images;
+    uint8_t *texels;
+    size_t n_texels, cap_texels; /* bytes */
+    uint64_t noise_seed;         /* the Perlin tables' seed (every rank builds them from it) */
+} rt_scene_textures;
+
+typedef enum rt_background_kind {
+    RT_BACKGROUND_SKY = 0,   /* book 1's gradient sky_bottom .. sky_top by ray direction y */
+    RT_BACKGROUND_COLOR = 1, /* one colour (black for lit scenes) */
+} rt_background_kind;
 
 typedef struct rt_camera_desc {
     rt_vec3 lookfrom, lookat, vup;
     double vfov_deg;   /* vertical field of view */
     double aperture;   /* lens diameter; 0 = pinhole */
     double focus_dist; /* distance to the plane in focus */
+    uint32_t pixels;   /* rt_camera_pixels: how pixel positions map to the viewport */
 } rt_camera_desc;
+
+typedef enum rt_camera_pixels {
+    RT_PIXELS_SEED = 0,  /* book 1's seeds: u = (x + du) / (W - 1), rows from the bottom */
+    RT_PIXELS_BOOK2 = 1, /* books 2-3 (v4): pixel centres a pixel apart, jitter in [-0.5, 0.5) */
+} rt_camera_pixels;
 
 typedef struct rt_scene {
     rt_sphere *spheres;
@@ -46,6 +176,11 @@ typedef struct rt_scene {
     size_t cap_materials;
     rt_camera_desc camera;
     rt_vec3 sky_bottom, sky_top; /* background gradient by ray direction y */
+    uint32_t background_kind;    /* rt_background_kind */
+    rt_vec3 background;          /* RT_BACKGROUND_COLOR */
+    rt_scene_shapes shapes;
+    rt_scene_media media;
+    rt_scene_textures tex;
 } rt_scene;
 
 #define RT_SCENE_FORMAT_VERSION 1u

@@ -8,10 +8,10 @@
 #include "status.h"
 
 static const rt_scene_info SCENES[] = {
-    {"final", "book 1 final scene: random small spheres around three large ones (--seed, --grid)"},
-    {"diffuse", "diffuse chapter (seed 002): grey sphere on a grey ground, camera at the origin, vfov 90"},
-    {"materials", "book 1 ch. 10: lambertian centre, hollow glass left, metal right, yellow-green ground"},
-    {"defocus", "book 1 ch. 12: the materials scene from (3,3,2) with vfov 20, aperture 2 (defocus blur)"},
+    {"final", "book 1 final scene: random small spheres around three large ones (--seed, --grid)", 1, 0, 0, 0, 0, 0},
+    {"diffuse", "diffuse chapter (seed 002): grey sphere on a grey ground, camera at the origin, vfov 90", 1, 0, 0, 0, 0, 0},
+    {"materials", "book 1 ch. 10: lambertian centre, hollow glass left, metal right, yellow-green ground", 1, 0, 0, 0, 0, 0},
+    {"defocus", "book 1 ch. 12: the materials scene from (3,3,2) with vfov 20, aperture 2 (defocus blur)", 1, 0, 0, 0, 0, 0},
 };
 #define N_SCENES (sizeof SCENES / sizeof SCENES[0])
 

@@ -10,7 +10,20 @@
 typedef struct rt_scene_info {
     const char *name;
     const char *summary; /* one line for --list-scenes */
+    int book;            /* 1, 2 or 3: --list-scenes groups by it */
+    /* The book's settings for the scene, the defaults of a job that renders
+     * it (options override them); 0: the program's own defaults. */
+    uint32_t width, height, samples, max_depth;
+    int needs_earth; /* reads earthmap.jpg (rt_scene_image) */
 } rt_scene_info;
+
+/* An image a named scene uses (the book's earthmap.jpg): rank 0's app
+ * layer reads the file (io/texture_image.h) and passes the texels, which
+ * the builder copies into the scene. */
+typedef struct rt_scene_image {
+    uint32_t width, height;
+    const uint8_t *texels; /* width * height x RGB, 8 bits, top row first */
+} rt_scene_image;
 
 /* Number of named scenes, and the i-th (NULL past the end), in list order. */
 unsigned rt_scenes_count(void);

@@ -98,7 +98,7 @@ static void compare_packet(const rt_bvh *b, const rt_accel *brute, const rt_ray 
 static void grey_scene(rt_scene *s)
 {
     rt_scene_init(s);
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+    rt_material m = {.kind = RT_MAT_LAMBERTIAN, .albedo = rt_v3(0.5, 0.5, 0.5), .fuzz = 0, .ior = 1};
     CHECK_EQ_INT(rt_scene_add_material(s, &m, NULL), RT_OK);
 }
 

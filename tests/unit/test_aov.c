@@ -50,7 +50,7 @@ static void check_room(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, 0), 100.0, rt_scene_lambertian(b)), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, -3), 1.0, rt_scene_dielectric(1.5)), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(1.3, 0.2, -2.5), 0.5, rt_scene_metal(rt_v3(0.9, 0.9, 0.9), 0.0)), RT_OK);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0};
+    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0, 0};
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     image im;
@@ -95,7 +95,7 @@ static void check_metal_and_sky(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, -3), 1.0, rt_scene_metal(m, 0.5)), RT_OK);
     s.sky_bottom = sky;
     s.sky_top = rt_v3(sky.x, sky.y, 1.0);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0};
+    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0, 0};
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     for (int adaptive = 0; adaptive < 2; adaptive++) {

@@ -151,7 +151,7 @@ int main(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, -1000, 0), 1000, rt_scene_lambertian(rt_v3(0.8, 0.8, 0.8))), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 1001, 0), 1000, rt_scene_lambertian(rt_v3(0.8, 0.8, 0.8))), RT_OK);
     s.sky_bottom = s.sky_top = rt_v3(1, 1, 1);
-    s.camera = (rt_camera_desc){rt_v3(0, 0.5, 0), rt_v3(1, 0.5, 0), rt_v3(0, 1, 0), 60.0, 0.0, 1.0};
+    s.camera = (rt_camera_desc){rt_v3(0, 0.5, 0), rt_v3(1, 0.5, 0), rt_v3(0, 1, 0), 60.0, 0.0, 1.0, 0};
     check_many_bounces("slab", &s);
     rt_scene_free(&s);
     CHECK_DONE();

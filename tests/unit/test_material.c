@@ -52,7 +52,7 @@ static void diffuse_samples(rt_sampler_kind kind, rt_diffuse model, rt_vec3 nrm,
                             double *azimuth)
 {
     rt_sampler smp = rt_sampler_from_rng(rt_rng_for_stream(1000 + model, RT_STREAM_TEST));
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0.0, 1.0};
+    rt_material m = {.kind = RT_MAT_LAMBERTIAN, .albedo = rt_v3(0.5, 0.5, 0.5), .fuzz = 0.0, .ior = 1.0};
     rt_surface s = {rt_v3(0, 0, 0), nrm, 1.0, 1};
     rt_vec3 t1 = rt_v3_unit(rt_v3_cross(nrm, rt_v3(1, 0, 0))), t2 = rt_v3_cross(nrm, t1);
     rt_ray in = {rt_v3_add(nrm, rt_v3(0.3, 0, 0)), rt_v3_neg(nrm)};
@@ -113,7 +113,7 @@ int main(void)
     rt_ray out;
 
     /* Mirror metal: angle of reflection equals angle of incidence. */
-    rt_material mirror = {RT_MAT_METAL, rt_v3(0.7, 0.6, 0.5), 0.0, 1.0};
+    rt_material mirror = {.kind = RT_MAT_METAL, .albedo = rt_v3(0.7, 0.6, 0.5), .fuzz = 0.0, .ior = 1.0};
     rt_ray in = {rt_v3(-1, 1, 0), rt_v3(1, -1, 0)};
     CHECK(rt_material_scatter(&mirror, &in, &s, RT_DIFFUSE_LAMBERTIAN, &smp, &att, &out));
     rt_vec3 d = rt_v3_unit(out.dir);
@@ -124,7 +124,7 @@ int main(void)
 
     /* Glass from inside at a grazing angle: total internal reflection,
      * always (no random choice involved). */
-    rt_material glass = {RT_MAT_DIELECTRIC, rt_v3(1, 1, 1), 0.0, 1.5};
+    rt_material glass = {.kind = RT_MAT_DIELECTRIC, .albedo = rt_v3(1, 1, 1), .fuzz = 0.0, .ior = 1.5};
     rt_surface inside = {rt_v3(0, 0, 0), rt_v3(0, -1, 0), 1.0, 0};
     rt_ray graze = {rt_v3(-1, -0.2, 0), rt_v3(1, 0.2, 0)};
     int tir = 1;

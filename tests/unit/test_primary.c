@@ -49,7 +49,7 @@ static void check_ray(const rt_primary *p, const rt_accel *brute, uint32_t x, ui
 static void random_scene(rt_scene *s, rt_rng *rng, int kind)
 {
     rt_scene_init(s);
-    rt_material m = {RT_MAT_LAMBERTIAN, rt_v3(0.5, 0.5, 0.5), 0, 1};
+    rt_material m = {.kind = RT_MAT_LAMBERTIAN, .albedo = rt_v3(0.5, 0.5, 0.5), .fuzz = 0, .ior = 1};
     CHECK_EQ_INT(rt_scene_add_material(s, &m, NULL), RT_OK);
     int n = 1 + (int)(rt_rng_double(rng) * 300);
     double spread = 1 + 20 * rt_rng_double(rng);
