@@ -107,6 +107,7 @@ static const optdef OPTS[] = {
     {"bit-depth", 0, K_SPECIAL, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
     {"dump-scene", 0, K_PATH, F(dump_scene), 0, 0},
+    {"texture-dir", 0, K_PATH, F(texture_dir), 0, 0},
     {"ppm-ascii", 0, K_FLAG, F(ppm_ascii), 0, 0},
     {"quiet", 'q', K_FLAG, F(quiet), 0, 0},
     {"checkpoint", 0, K_PATH, F(checkpoint), 0, 0},
@@ -135,6 +136,7 @@ static const optdef OPTS[] = {
 };
 #undef F
 #define N_OPTS (sizeof OPTS / sizeof OPTS[0])
+_Static_assert(N_OPTS <= 64, "rt_options.given has a bit per option");
 
 const char *rt_cli_long_option(size_t i) { return i < N_OPTS ? OPTS[i].lng : NULL; }
 
@@ -361,8 +363,37 @@ static int check_features(const rt_options *o, const char *positional, char *err
 /* The options of a render, once all are read: the defaults that depend on
  * others (height, roulette) and the combinations that make no sense. 0, or
  * RT_EINVAL with err filled. */
+/* Whether option `lng` was on the command line. */
+static int given(const rt_options *o, const char *lng)
+{
+    for (size_t i = 0; i < N_OPTS; i++)
+        if (!strcmp(OPTS[i].lng, lng))
+            return (int)((o->given >> i) & 1u);
+    return 0;
+}
+
+/* A named scene's own size, samples and depth (the book's: scenes.h) where
+ * the command line gives none; a width alone keeps the scene's aspect. */
+static void scene_defaults(rt_options *o)
+{
+    const rt_scene_info *info = o->scene ? rt_scenes_find(o->scene) : NULL;
+    if (!info || !info->width)
+        return;
+    if (!given(o, "width"))
+        o->job.width = info->width;
+    if (!given(o, "height")) {
+        const uint64_t h = (uint64_t)o->job.width * info->height / info->width;
+        o->job.height = h ? (uint32_t)h : 1u;
+    }
+    if (!given(o, "samples"))
+        o->job.samples = info->samples;
+    if (!given(o, "max-depth"))
+        o->job.max_depth = info->max_depth;
+}
+
 static int settle_run(rt_options *o, char *err, size_t errlen)
 {
+    scene_defaults(o);
     if (!o->job.height) { /* not given (--height is at least 1) */
         o->job.height = (uint32_t)((double)o->job.width / 1.5);
         if (o->job.height == 0) {
@@ -473,6 +504,7 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         }
         if (apply(d, name, val, o, &action, err, errlen))
             return RT_CLI_ERROR;
+        o->given |= UINT64_C(1) << (d - OPTS);
     }
     if (action != RT_CLI_RUN)
         return action;
@@ -490,6 +522,8 @@ rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size
         return RT_CLI_ERROR;
     if (!o->scene && !o->scene_file)
         o->scene = "final";
+    if (o->dump_scene)
+        scene_defaults(o);
     if (o->dump_scene) /* nothing renders: the render's options do not matter */
         return RT_CLI_DUMP_SCENE;
     return settle_run(o, err, errlen) ? RT_CLI_ERROR : RT_CLI_RUN;

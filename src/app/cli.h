@@ -48,6 +48,8 @@ typedef struct rt_options {
     const char *scene;      /* named scene (scenes.h); "final" when no scene file is given */
     const char *scene_file; /* JSON scene file instead of a named scene */
     const char *dump_scene; /* write the scene as JSON here, then exit */
+    const char *texture_dir; /* where named scenes find their images (earthmap.jpg); NULL: "." */
+    uint64_t given;          /* bit i: option i of cli.c's table was on the command line */
     int bit_depth;          /* 8 or 16 (PNG, PPM) */
     int ppm_ascii;          /* PPM as P3 text */
 } rt_options;

@@ -25,8 +25,16 @@ static int answer(const rt_run *run, rt_cli_action action)
         printf("rt-mpi %s (sampling version %u)\nfeatures: %s\nMPI library: %s\n", RT_VERSION,
                RT_RENDER_SAMPLING, features, rt_farm_mpi_version());
     }
-    for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++)
-        printf("%-10s %s\n", rt_scenes_info(i)->name, rt_scenes_info(i)->summary);
+    static const char *const BOOKS[] = {"", "Ray Tracing in One Weekend (book 1)", "Ray Tracing: The Next Week (book 2)"};
+    for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++) {
+        const rt_scene_info *in = rt_scenes_info(i);
+        if (!i || in->book != rt_scenes_info(i - 1)->book)
+            printf("%s%s:\n", i ? "\n" : "", BOOKS[in->book]);
+        printf("  %-18s %s\n", in->name, in->summary);
+        if (in->width)
+            printf("  %-18s (the book's %u x %u, %u spp, depth %u)\n", "", in->width, in->height, in->samples,
+                   in->max_depth);
+    }
     return 0;
 }
 

@@ -16,15 +16,49 @@
 #include "scene_json.h"
 #include "scenes.h"
 #include "status.h"
+#include "texture_image.h"
+
+/* The earth texture of the named scenes that show it, read from
+ * --texture-dir; an exit code (bad input: RT_EXIT_USAGE) with err set. */
+static int read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
+{
+    const char *dir = o->texture_dir ? o->texture_dir : ".";
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s/earthmap.jpg", dir) >= (int)sizeof path) {
+        snprintf(err, errlen, "--texture-dir: path too long");
+        return RT_EXIT_USAGE;
+    }
+    int st = rt_texture_image_load(path, NULL, img);
+    if (st == RT_ENOFILE)
+        snprintf(err, errlen,
+                 "%s: no such file: scene '%s' needs the book's earth texture (images/earthmap.jpg of the book's "
+                 "repository, RayTracing/raytracing.github.io); give its directory with --texture-dir",
+                 path, o->scene);
+    else if (st)
+        snprintf(err, errlen, "%s: %s", path, rt_status_str(st));
+    return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+}
 
 /* The scene of this run, named or from a file; an exit code. */
 static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
 {
-    int st = o->scene_file ? rt_scene_json_load(s, o->scene_file, err, errlen)
-                           : rt_scene_build_named(s, o->scene, o->job.seed, o->grid);
-    if (st && !o->scene_file)
+    if (o->scene_file) {
+        int st = rt_scene_json_load(s, o->scene_file, err, errlen);
+        return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+    }
+    const rt_scene_info *info = rt_scenes_find(o->scene);
+    rt_texture_image earth = {0, 0, NULL};
+    if (info && info->needs_earth) {
+        int code = read_earth(o, &earth, err, errlen);
+        if (code)
+            return code;
+    }
+    const rt_scene_image img = {earth.width, earth.height, earth.texels};
+    int st = rt_scene_build_named(s, o->scene, o->job.seed, o->grid, &img);
+    rt_texture_image_free(&earth);
+    if (st)
         snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
-    return !st ? 0 : st == RT_ENOMEM || !o->scene_file ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+    return st ? RT_EXIT_RUNTIME : 0;
 }
 
 int rt_run_dump_scene(const rt_options *o)
@@ -37,7 +71,11 @@ int rt_run_dump_scene(const rt_options *o)
         code = make_scene(o, &s, err, sizeof err);
     if (!code) {
         int st = rt_scene_json_dump(&s, o->dump_scene);
-        if (st) {
+        if (st == RT_EUNSUPPORTED) {
+            snprintf(err, sizeof err, "--dump-scene: scene files cannot hold book 2's content yet (quads, textures, "
+                                      "media, lights); only book 1's scenes can be written");
+            code = RT_EXIT_USAGE;
+        } else if (st) {
             snprintf(err, sizeof err, "writing %s: %s", o->dump_scene, rt_status_str(st));
             code = RT_EXIT_RUNTIME;
         }
@@ -92,7 +130,7 @@ void rt_run_renderer(rt_run *run)
     run->renderer.stop = rt_farm_stop_flag();
     /* Our BVH also gets candidate lists for the camera rays (brute force and
      * Embree stay as they are: the oracle and the comparison). */
-    if (rt_accel_bvh(run->accel)) {
+    if (rt_accel_bvh(run->accel) && !run->renderer.world) { /* the book-2 loop makes its own camera rays */
         st = rt_primary_build(&run->primary, &run->scene, &run->renderer.camera, o->job.width, o->job.height);
         if (st)
             rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));

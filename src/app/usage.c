@@ -33,6 +33,8 @@ const char *rt_cli_usage(void)
            "      --scene-file <FILE>  Render the scene described by a JSON scene file instead\n"
            "      --list-scenes        List the named scenes and exit\n"
            "      --dump-scene <FILE>  Write the scene this run would render as JSON, then exit\n"
+           "      --texture-dir <DIR>  Where the scenes with the earth (earth, book2-final) read\n"
+           "                           earthmap.jpg, from the book's repository [default: .]\n"
            "      --grid <GRID>        Half-grid size N of the final scene: 2N x 2N small spheres\n"
            "                           [default: 11]\n"
            "      --width <WIDTH>      Image width in pixels [default: 1200]\n"

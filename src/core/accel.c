@@ -9,6 +9,7 @@
 #include "bvh.h"
 #include "sphere.h"
 #include "status.h"
+#include "world.h"
 
 #ifdef RT_HAVE_EMBREE
 #include "accel_embree.h"
@@ -19,6 +20,7 @@ struct rt_accel {
     const rt_scene *scene;
     rt_bvh *bvh;
     void *embree;
+    rt_world *world;
 };
 
 int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
@@ -48,6 +50,8 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
     default:
         st = RT_EINVAL;
     }
+    if (!st && rt_scene_is_book2(s))
+        st = rt_world_build(&a->world, s, kind == RT_ACCEL_BRUTE);
     if (st) {
         rt_accel_free(a);
         return st;
@@ -61,6 +65,7 @@ void rt_accel_free(rt_accel *a)
     if (!a)
         return;
     rt_bvh_free(a->bvh);
+    rt_world_free(a->world);
 #ifdef RT_HAVE_EMBREE
     rt_embree_free(a->embree);
 #endif
@@ -135,8 +140,10 @@ int rt_accel_parse(const char *name)
 
 size_t rt_accel_bytes(const rt_accel *a)
 {
-    return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0);
+    return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0) + (a->world ? rt_world_bytes(a->world) : 0);
 }
+
+const struct rt_world *rt_accel_world(const rt_accel *a) { return a->world; }
 
 const char *rt_accel_box_test(const rt_accel *a)
 {

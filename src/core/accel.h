@@ -46,6 +46,9 @@ const char *rt_accel_box_test(const rt_accel *a);
  * CPU with AVX), else NULL: for code compiled for AVX that calls
  * rt_bvh_closest_avx itself (path.h's path loop). */
 const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a);
+/* The scene's quads, moving spheres, media and noise tables (world.h) when
+ * it has book-2 content (rt_scene_is_book2), else NULL. */
+const struct rt_world *rt_accel_world(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
 /* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds), else NULL: for tests and

@@ -9,6 +9,7 @@
 #include "dispatch.h"
 
 #include "path.h"
+#include "path2.h"
 
 __attribute__((flatten)) static uint64_t pixel_base(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t s0,
                                                     uint32_t s1, int64_t *px)
@@ -39,6 +40,8 @@ __attribute__((target("avx"), flatten)) static uint64_t pixel_avx_x(const rt_ren
 rt_dispatch_fn rt_dispatch_pick(const rt_renderer *r)
 {
     const int extras = r->lay.ch > 3;
+    if (r->world)
+        return rt_path2_pixel;
 #if RT_BVH_HAVE_AVX
     if (r->bvh_avx)
         return extras ? pixel_avx_x : pixel_avx;

@@ -10,6 +10,7 @@
 
 #include "dispatch.h"
 #include "path.h"
+#include "path2.h"
 #include "status.h"
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job)
@@ -25,11 +26,14 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     r->primary = NULL;
     r->lay = rt_job_layout(job);
+    r->world = rt_accel_world(a);
     return rt_camera_init(&r->camera, &s->camera, (double)job->width / (double)job->height);
 }
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)
 {
+    if (r->world)
+        return rt_path2_sample(r, x, y, sample, segments);
     const pixel_ctx pc = pixel_start(r, x, y, pixel_key(r, x, y), 0);
     path p;
     path_start(&pc, sample, &p);
@@ -49,6 +53,8 @@ uint32_t rt_render_sample_rays(const rt_renderer *r, uint32_t x, uint32_t y, uin
 
 uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t *segments)
 {
+    if (r->world)
+        return rt_path2_pilot(r, x, y, segments);
     const pixel_ctx pc = pixel_start(r, x, y, pixel_key(r, x, y), 0);
     return pilot_count(&pc, segments);
 }

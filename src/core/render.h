@@ -94,6 +94,9 @@ typedef struct rt_renderer {
      * rt_render_init). */
     const struct rt_primary *primary;
     rt_layout lay; /* the values of a pixel's sums (job.h) */
+    /* The scene's book-2 content (rt_accel_world), or NULL: then the
+     * book-2 path loop (path2.c) renders it. */
+    const struct rt_world *world;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);

@@ -18,7 +18,7 @@ typedef struct rt_rng {
 
 /* Purposes that own a stream of their own, so the scene draw never shares
  * numbers with pixel sampling. */
-enum { RT_STREAM_SCENE = 1, RT_STREAM_TEST = 2 };
+enum { RT_STREAM_SCENE = 1, RT_STREAM_TEST = 2, RT_STREAM_PERLIN = 3 };
 
 /* Stafford's "Mix13" finalizer as used by splitmix64: a bijection on 64 bits
  * with full avalanche. */

@@ -20,6 +20,19 @@
  *                       dielectric: 1D reflect or refract
  *                     then 1D the Russian roulette path.h, path_roulette
  *
+ * Scenes with book-2 content (world.h) are rendered by the book-2 path
+ * loop (path2.c), whose layout is its own:
+ *
+ *   0-1               2D the position in the pixel  path2.c
+ *   2-3               2D the lens
+ *   4                 1D the ray's time in [0, 1) (motion blur)
+ *   6 + 8d ...        the bounce at depth d (rt_sampler_seek):
+ *     +0              1D the free flight in the media (an optical depth)
+ *     +1              1D which medium scattered, when several overlap
+ *     +2 ...          the material's or the medium's phase function's
+ *                     numbers as above (isotropic: 2D direction), then 1D
+ *                     the Russian roulette
+ *
  * A 2D request takes the next even dimension and the one after it, a 1D
  * request the next dimension. Each bounce starts at its own dimension, so
  * its numbers do not depend on the materials before it. A new feature
@@ -79,6 +92,13 @@ static inline int rt_sampler_parse(const char *name)
 #define RT_SAMPLER_DIM_LENS 2u
 #define RT_SAMPLER_DIM_BOUNCE 4u
 #define RT_SAMPLER_BOUNCE_DIMS 4u
+/* The book-2 layout. */
+#define RT_SAMPLER2_DIM_TIME 4u
+#define RT_SAMPLER2_DIM_BOUNCE 6u
+#define RT_SAMPLER2_BOUNCE_DIMS 8u
+#define RT_SAMPLER2_FLIGHT 0u   /* offsets in a bounce */
+#define RT_SAMPLER2_MEDIUM 1u
+#define RT_SAMPLER2_SCATTER 2u
 
 /* ---- the Sobol pieces ----------------------------------------------------- */
 
@@ -233,6 +253,13 @@ static inline uint64_t rt_sampler_pair(const rt_sampler *s, uint32_t pair)
 static inline void rt_sampler_bounce(rt_sampler *s, uint32_t depth)
 {
     s->dim = RT_SAMPLER_DIM_BOUNCE + RT_SAMPLER_BOUNCE_DIMS * depth;
+}
+
+/* The next request takes dimension dim (the book-2 layout's bounces);
+ * the random sampler draws in request order and ignores it. */
+static inline void rt_sampler_seek(rt_sampler *s, uint32_t dim)
+{
+    s->dim = dim;
 }
 
 /* The next 2D number: .x << 32 | .y, two 32-bit fractions (warp.h). */

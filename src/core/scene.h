@@ -183,8 +183,15 @@ typedef struct rt_scene {
     rt_scene_textures tex;
 } rt_scene;
 
-#define RT_SCENE_FORMAT_VERSION 1u
+#define RT_SCENE_FORMAT_VERSION 2u /* 1: book 1 only (still written for such scenes) */
 #define RT_SCENE_MAX_SPHERES 10000000u
+/* Media in a scene, at most: the book-2 path loop walks a ray through
+ * all of them at every segment. */
+#define RT_SCENE_MAX_MEDIA 64u
+/* Texels of one image, at most: 2^26 (8192 x 8192, 192 MiB) is 128 times
+ * the book's earthmap.jpg (1024 x 512). The image reader refuses a file
+ * whose header announces more before decoding it (io/texture_image.h). */
+#define RT_SCENE_MAX_IMAGE_PIXELS ((uint64_t)1 << 26)
 
 void rt_scene_init(rt_scene *s);
 void rt_scene_free(rt_scene *s);
@@ -200,6 +207,34 @@ int rt_scene_add(rt_scene *s, rt_vec3 center, double radius, rt_material m);
 rt_material rt_scene_lambertian(rt_vec3 albedo);
 rt_material rt_scene_metal(rt_vec3 albedo, double fuzz);
 rt_material rt_scene_dielectric(double ior);
+
+/* ---- book 2's additions (scene_book2.c) ------------------------------------
+ * Each takes an rt_xform (xform.h; NULL for none) where a shape can be part
+ * of an instance: the shape is stored in world space. RT_EINVAL for a bad
+ * argument (a zero-area quad, a material or texture index out of range, a
+ * non-finite number, a density <= 0), RT_EOVERFLOW past the format's
+ * limits, RT_ENOMEM. */
+struct rt_xform;
+rt_material rt_scene_emitter(rt_vec3 emit, int two_sided);
+rt_material rt_scene_isotropic(rt_vec3 albedo);
+/* m with its albedo (emitter: its emission) taken from texture index tex. */
+rt_material rt_scene_textured(rt_material m, uint32_t tex);
+int rt_scene_add_texture(rt_scene *s, const rt_texture *t, uint32_t *index);
+/* Copies width x height RGB texels in. */
+int rt_scene_add_image(rt_scene *s, uint32_t width, uint32_t height, const uint8_t *texels, uint32_t *index);
+int rt_scene_add_quad(rt_scene *s, rt_vec3 q, rt_vec3 u, rt_vec3 v, uint32_t material, const struct rt_xform *x);
+/* The box with opposite corners a and b: six quads facing out. */
+int rt_scene_add_box(rt_scene *s, rt_vec3 a, rt_vec3 b, uint32_t material, const struct rt_xform *x);
+/* A sphere of an instance: a rotated one keeps its (u, v) through a frame. */
+int rt_scene_add_sphere_x(rt_scene *s, rt_vec3 center, double radius, uint32_t material, const struct rt_xform *x);
+int rt_scene_add_mover(rt_scene *s, rt_vec3 center0, rt_vec3 center1, double radius, uint32_t material,
+                       const struct rt_xform *x);
+/* Media of density inside a sphere, or inside the box a..b. */
+int rt_scene_add_medium_sphere(rt_scene *s, rt_vec3 center, double radius, double density, uint32_t material);
+int rt_scene_add_medium_box(rt_scene *s, rt_vec3 a, rt_vec3 b, double density, uint32_t material,
+                            const struct rt_xform *x);
+/* 1 when s uses anything of book 2 (the book-2 path loop renders it). */
+int rt_scene_is_book2(const rt_scene *s);
 
 /* The book 1 final scene as seed 000's renderer builds it: ground, a
  * 2grid x 2grid field of small spheres (80/15/5 % lambertian/metal/glass)

@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "scenes_book2.h"
 #include "status.h"
 
 static const rt_scene_info SCENES[] = {
@@ -12,12 +13,32 @@ static const rt_scene_info SCENES[] = {
     {"diffuse", "diffuse chapter (seed 002): grey sphere on a grey ground, camera at the origin, vfov 90", 1, 0, 0, 0, 0, 0},
     {"materials", "book 1 ch. 10: lambertian centre, hollow glass left, metal right, yellow-green ground", 1, 0, 0, 0, 0, 0},
     {"defocus", "book 1 ch. 12: the materials scene from (3,3,2) with vfov 20, aperture 2 (defocus blur)", 1, 0, 0, 0, 0, 0},
+    {"bouncing-spheres", "book 2 ch. 2: book 1's final scene with moving (motion-blurred) spheres on a checker",
+     2, 400, 225, 100, 50, 0},
+    {"checkered-spheres", "book 2 ch. 4: two checkered spheres", 2, 400, 225, 100, 50, 0},
+    {"earth", "book 2 ch. 4: the earth, an image texture (earthmap.jpg, --texture-dir)", 2, 400, 225, 100, 50, 1},
+    {"perlin-spheres", "book 2 ch. 5: two marble (Perlin noise) spheres", 2, 400, 225, 100, 50, 0},
+    {"quads", "book 2 ch. 6: five coloured quads", 2, 400, 400, 100, 50, 0},
+    {"simple-light", "book 2 ch. 7: the marble spheres lit by a sphere and a quad light, black sky", 2, 400, 225, 100,
+     50, 0},
+    {"cornell-box", "book 2 ch. 7-8: the Cornell box with two rotated boxes", 2, 600, 600, 200, 50, 0},
+    {"cornell-smoke", "book 2 ch. 9: the Cornell box with boxes of black and white smoke", 2, 600, 600, 200, 50, 0},
+    {"book2-final", "book 2 ch. 10: boxes, lights, fog, glass, the earth, marble and instanced spheres (--seed)", 2,
+     800, 800, 10000, 40, 1},
 };
 #define N_SCENES (sizeof SCENES / sizeof SCENES[0])
 
 unsigned rt_scenes_count(void) { return (unsigned)N_SCENES; }
 
 const rt_scene_info *rt_scenes_info(unsigned i) { return i < N_SCENES ? &SCENES[i] : NULL; }
+
+const rt_scene_info *rt_scenes_find(const char *name)
+{
+    for (unsigned i = 0; i < N_SCENES; i++)
+        if (!strcmp(name, SCENES[i].name))
+            return &SCENES[i];
+    return NULL;
+}
 
 /* Seed 002: both spheres absorb half the light (the chapter's 0.5 factor);
  * the camera is the book's default one (origin, looking down -z, viewport 2
@@ -51,10 +72,13 @@ static int build_materials(rt_scene *s, double hollow_radius)
     return st ? st : rt_scene_add(s, rt_v3(1, 0, -1), 0.5, right);
 }
 
-int rt_scene_build_named(rt_scene *s, const char *name, uint64_t seed, int grid)
+int rt_scene_build_named(rt_scene *s, const char *name, uint64_t seed, int grid, const rt_scene_image *img)
 {
     if (!strcmp(name, "final"))
         return rt_scene_build_final(s, seed, grid);
+    for (unsigned i = 0; i < N_SCENES; i++)
+        if (SCENES[i].book == 2 && !strcmp(name, SCENES[i].name))
+            return rt_scenes_book2_build(s, name, seed, img);
     rt_scene_init(s); /* camera: origin looking down -z, vfov 90, pinhole */
     int st;
     if (!strcmp(name, "diffuse")) {

@@ -30,7 +30,11 @@ unsigned rt_scenes_count(void);
 const rt_scene_info *rt_scenes_info(unsigned i);
 
 /* Builds scene `name` into s. seed and grid matter only to the scenes that
- * draw random spheres (final). RT_EINVAL for an unknown name. */
-int rt_scene_build_named(rt_scene *s, const char *name, uint64_t seed, int grid);
+ * draw random spheres or noise (final, book 2's); img only to those that
+ * need the earth (rt_scene_info.needs_earth: RT_ENOFILE without it).
+ * RT_EINVAL for an unknown name. */
+int rt_scene_build_named(rt_scene *s, const char *name, uint64_t seed, int grid, const rt_scene_image *img);
+/* The named scene `name`'s entry, NULL when unknown. */
+const rt_scene_info *rt_scenes_find(const char *name);
 
 #endif

@@ -506,6 +506,8 @@ static void put_vec(sbuf *b, const char *prefix, rt_vec3 v)
 
 int rt_scene_json_format(const rt_scene *s, char **text, size_t *len)
 {
+    if (rt_scene_is_book2(s)) /* the file format does not hold book 2's content yet */
+        return RT_EUNSUPPORTED;
     sbuf b = {malloc(4096), 0, 4096, 0};
     if (!b.p)
         return RT_ENOMEM;

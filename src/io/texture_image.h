@@ -7,10 +7,12 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* The default limits, here only. 2^26 texels (8192 x 8192, 192 MiB of
- * texels) is 128 times the book's earthmap.jpg (1024 x 512); a file is
- * refused before any texel is decoded when its header announces more. */
-#define RT_TEXTURE_MAX_PIXELS ((uint64_t)1 << 26)
+#include "scene.h"
+
+/* The default limits: the scene format's texels per image
+ * (RT_SCENE_MAX_IMAGE_PIXELS); a file is refused before any texel is
+ * decoded when its header announces more. */
+#define RT_TEXTURE_MAX_PIXELS RT_SCENE_MAX_IMAGE_PIXELS
 #define RT_TEXTURE_MAX_FILE_BYTES ((size_t)1 << 28)
 
 typedef struct rt_texture_limits {

@@ -65,7 +65,18 @@ int main(int argc, char **argv)
     char err[512];
 
     for (unsigned i = 0; i < rt_scenes_count(); i++) {
-        CHECK_EQ_INT(rt_scene_build_named(&s, rt_scenes_info(i)->name, 42, 11), RT_OK);
+        if (rt_scenes_info(i)->book != 1) { /* the file format holds book 1's scenes only, and says so */
+            if (rt_scenes_info(i)->needs_earth)
+                continue;
+            CHECK_EQ_INT(rt_scene_build_named(&s, rt_scenes_info(i)->name, 42, 11, NULL), RT_OK);
+            char *text = NULL;
+            size_t n = 0;
+            CHECK_EQ_INT(rt_scene_json_format(&s, &text, &n), RT_EUNSUPPORTED);
+            free(text);
+            rt_scene_free(&s);
+            continue;
+        }
+        CHECK_EQ_INT(rt_scene_build_named(&s, rt_scenes_info(i)->name, 42, 11, NULL), RT_OK);
         round_trip(&s, rt_scenes_info(i)->name);
         rt_scene_free(&s);
     }
@@ -230,7 +241,7 @@ int main(int argc, char **argv)
     CHECK(mkdtemp(dir) != NULL);
     char path[256];
     snprintf(path, sizeof path, "%s/missing/x.json", dir);
-    CHECK_EQ_INT(rt_scene_build_named(&s, "materials", 1, 1), RT_OK);
+    CHECK_EQ_INT(rt_scene_build_named(&s, "materials", 1, 1, NULL), RT_OK);
     CHECK(rt_scene_json_dump(&s, path) != RT_OK);
     snprintf(path, sizeof path, "%s/x.json", dir);
     CHECK_EQ_INT(rt_scene_json_dump(&s, path), RT_OK);

@@ -35,8 +35,11 @@ static int centre_hit(const rt_scene *s, rt_rng *rng, double *t)
 
 int main(void)
 {
-    /* The list: four scenes, final first, names unique, one line each. */
-    CHECK_EQ_INT(rt_scenes_count(), 4);
+    /* The list: book 1's four scenes and book 2's nine, final first, names
+     * unique, one line each; book 1's have no defaults of their own. */
+    CHECK_EQ_INT(rt_scenes_count(), 13);
+    for (unsigned i = 0; i < rt_scenes_count(); i++)
+        CHECK_EQ_INT(rt_scenes_info(i)->book, i < 4 ? 1 : 2);
     CHECK(rt_scenes_info(rt_scenes_count()) == NULL);
     CHECK(!strcmp(rt_scenes_info(0)->name, "final"));
     for (unsigned i = 0; i < rt_scenes_count(); i++) {
@@ -45,19 +48,19 @@ int main(void)
             CHECK(strcmp(rt_scenes_info(i)->name, rt_scenes_info(j)->name) != 0);
     }
     rt_scene s;
-    CHECK_EQ_INT(rt_scene_build_named(&s, "nope", 42, 11), RT_EINVAL);
-    CHECK_EQ_INT(rt_scene_build_named(&s, "Final", 42, 11), RT_EINVAL);
+    CHECK_EQ_INT(rt_scene_build_named(&s, "nope", 42, 11, NULL), RT_EINVAL);
+    CHECK_EQ_INT(rt_scene_build_named(&s, "Final", 42, 11, NULL), RT_EINVAL);
 
     /* final is rt_scene_build_final with the same seed and grid. */
     rt_scene f;
-    CHECK_EQ_INT(rt_scene_build_named(&s, "final", 7, 3), RT_OK);
+    CHECK_EQ_INT(rt_scene_build_named(&s, "final", 7, 3, NULL), RT_OK);
     CHECK_EQ_INT(rt_scene_build_final(&f, 7, 3), RT_OK);
     CHECK_EQ_U64(rt_scene_hash(&s), rt_scene_hash(&f));
     rt_scene_free(&s);
     rt_scene_free(&f);
 
     /* diffuse (seed 002): two grey spheres, default camera, vfov 90. */
-    CHECK_EQ_INT(rt_scene_build_named(&s, "diffuse", 42, 11), RT_OK);
+    CHECK_EQ_INT(rt_scene_build_named(&s, "diffuse", 42, 11, NULL), RT_OK);
     CHECK_EQ_INT(s.n_spheres, 2);
     check_vec(s.spheres[0].center, 0, 0, -1);
     CHECK_NEAR(s.spheres[0].radius, 0.5, 0);
@@ -86,7 +89,7 @@ int main(void)
     const double hollow[2] = {-0.4, -0.45};
     const char *names[2] = {"materials", "defocus"};
     for (int k = 0; k < 2; k++) {
-        CHECK_EQ_INT(rt_scene_build_named(&s, names[k], 42, 11), RT_OK);
+        CHECK_EQ_INT(rt_scene_build_named(&s, names[k], 42, 11, NULL), RT_OK);
         CHECK_EQ_INT(s.n_spheres, 5);
         const rt_sphere *sp = s.spheres;
         const rt_material *mat = s.materials;

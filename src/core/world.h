@@ -1,0 +1,58 @@
+/* world.h - what the book-2 path loop needs of a scene beyond its static
+ * spheres (which keep the sphere BVH, accel.h): the closest hit among its
+ * quads and moving spheres (a BVH of their boxes, or brute force), the
+ * spans of a ray inside its media, the hit's surface record with (u, v),
+ * and the noise tables. Built with the scene's accelerator (rt_accel_new),
+ * for scenes with book-2 content only. */
+#ifndef RT_WORLD_H
+#define RT_WORLD_H
+
+#include <stdint.h>
+
+#include "material.h"
+#include "scene.h"
+#include "texture.h"
+#include "vec.h"
+
+typedef struct rt_world rt_world;
+
+/* A hit of the book-2 path loop: a static sphere (accel.h's index), a quad
+ * or a moving sphere. */
+typedef enum rt_shape_kind {
+    RT_SHAPE_SPHERE = 0,
+    RT_SHAPE_QUAD = 1,
+    RT_SHAPE_MOVER = 2,
+} rt_shape_kind;
+
+typedef struct rt_whit {
+    double t;
+    uint32_t kind; /* rt_shape_kind */
+    uint32_t index;
+} rt_whit;
+
+/* brute: test every shape (the oracle) instead of the BVH. */
+int rt_world_build(rt_world **out, const rt_scene *s, int brute);
+void rt_world_free(rt_world *w);
+size_t rt_world_bytes(const rt_world *w);
+const rt_perlin *rt_world_perlin(const rt_world *w);
+
+/* The closest quad or moving sphere (at the ray's time) with
+ * tmin < t <= tmax: the least t, of equal ones the quads before the moving
+ * spheres and the lower index (the same answer from the BVH and brute
+ * force, in any order). Returns 1 and fills *hit on a hit. */
+int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit);
+
+/* The span [*t0, *t1] of the whole line orig + t dir inside medium k's
+ * boundary (t may be negative); 0 when the line misses it. */
+int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1);
+
+/* The surface record of hit h of ray (time: its time), with (u, v) when
+ * want_uv (a textured material): spheres by the book's longitude and
+ * latitude of the object-space normal, quads by their edge coordinates. */
+void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, double time, int want_uv,
+                      rt_surface *rec, double *u, double *v);
+
+/* The material of hit h. */
+uint32_t rt_world_material(const rt_world *w, const rt_whit *h);
+
+#endif
