@@ -93,22 +93,14 @@ int rt_scene_add_image(rt_scene *s, uint32_t width, uint32_t height, const uint8
     return RT_OK;
 }
 
-static const rt_xform *or_identity(const rt_xform *x, rt_xform *id)
-{
-    if (x)
-        return x;
-    *id = rt_xform_identity();
-    return id;
-}
-
 /* A quad into list (shapes.quads, or media.hull with material 0). */
 static int push_quad(rt_scene *s, int hull, rt_vec3 q, rt_vec3 u, rt_vec3 v, uint32_t material, const rt_xform *x)
 {
-    rt_xform id;
-    x = or_identity(x, &id);
     if (!finite3(q) || !finite3(u) || !finite3(v) || (!hull && material >= s->n_materials))
         return RT_EINVAL;
-    rt_quad r = {rt_xform_point(x, q), rt_xform_vector(x, u), rt_xform_vector(x, v), material};
+    rt_quad r = {q, u, v, material}; /* no motion: the values as given, bit for bit (-0 included) */
+    if (x)
+        r = (rt_quad){rt_xform_point(x, q), rt_xform_vector(x, u), rt_xform_vector(x, v), material};
     const rt_vec3 n = rt_v3_cross(r.u, r.v);
     if (!(rt_v3_len2(n) > 0) || !isfinite(rt_v3_len2(n))) /* zero area */
         return RT_EINVAL;
@@ -172,11 +164,9 @@ static int frame_of(rt_scene *s, const rt_xform *x, uint32_t *frame)
 
 int rt_scene_add_sphere_x(rt_scene *s, rt_vec3 center, double radius, uint32_t material, const rt_xform *x)
 {
-    rt_xform id;
-    const rt_xform *xf = or_identity(x, &id);
     if (!finite3(center))
         return RT_EINVAL;
-    int st = rt_scene_add_sphere(s, rt_xform_point(xf, center), radius, material);
+    int st = rt_scene_add_sphere(s, x ? rt_xform_point(x, center) : center, radius, material);
     if (!st)
         st = frame_of(s, x, &s->spheres[s->n_spheres - 1].frame);
     return st;
@@ -184,8 +174,6 @@ int rt_scene_add_sphere_x(rt_scene *s, rt_vec3 center, double radius, uint32_t m
 
 int rt_scene_add_mover(rt_scene *s, rt_vec3 c0, rt_vec3 c1, double radius, uint32_t material, const rt_xform *x)
 {
-    rt_xform id;
-    const rt_xform *xf = or_identity(x, &id);
     if (!finite3(c0) || !finite3(c1) || !(radius != 0.0) || !isfinite(radius) || material >= s->n_materials)
         return RT_EINVAL;
     uint32_t frame;
@@ -194,7 +182,7 @@ int rt_scene_add_mover(rt_scene *s, rt_vec3 c0, rt_vec3 c1, double radius, uint3
         st = LIST_GROW(s->shapes.movers);
     if (st)
         return st;
-    rt_mover m = {rt_xform_point(xf, c0), rt_xform_point(xf, c1), radius, material, frame};
+    rt_mover m = {x ? rt_xform_point(x, c0) : c0, x ? rt_xform_point(x, c1) : c1, radius, material, frame};
     s->shapes.movers.items[s->shapes.movers.n++] = m;
     return RT_OK;
 }

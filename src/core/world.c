@@ -11,13 +11,15 @@
 #include "sphere.h"
 #include "status.h"
 
-#define LEAF_ITEMS 2
+#define LEAF_ITEMS 4 /* a node of more items is split even when the heuristic says no */
 #define STACK 128
 
-/* A quad with what its test needs: the book's plane (normal n, offset d)
- * and w = N / |N|^2 (N = u x v) for the edge coordinates. */
+/* A quad with what its test needs: its plane (unit normal n, offset d)
+ * and the vectors whose dot products with a point's offset from q give its
+ * edge coordinates: with N = u x v and w = N / |N|^2, the book's
+ * alpha = w . (p x v) = p . (v x w) and beta = w . (u x p) = p . (w x u). */
 typedef struct quad_x {
-    rt_vec3 q, u, v, n, w;
+    rt_vec3 q, n, ea, eb;
     double d;
 } quad_x;
 
@@ -54,7 +56,7 @@ static box item_box(const rt_world *w, uint32_t i)
 {
     box b = {{DBL_MAX, DBL_MAX, DBL_MAX}, {-DBL_MAX, -DBL_MAX, -DBL_MAX}};
     if (i < w->nq) {
-        const quad_x *q = &w->quads[i];
+        const rt_quad *q = &w->s->shapes.quads.items[i];
         const double pad = 1e-4; /* a flat quad still gets a box with volume (the book's padding) */
         box_point(&b, q->q, pad);
         box_point(&b, rt_v3_add(q->q, q->u), pad);
@@ -81,36 +83,82 @@ static int by_key(const void *pa, const void *pb)
     return (a->item > b->item) - (a->item < b->item);
 }
 
-/* Node over items [first, first + count): a leaf of up to LEAF_ITEMS, or
- * an object-median split on the longest axis of the centres' box (ties by
- * item, so every rank builds the same tree). An inner node's left child
- * follows it; its `first` is the right child. Returns the node, -1 when
- * out of memory. */
-static int build(rt_world *w, const box *bx, keyed *tmp, uint32_t first, uint32_t count)
+static double area(const box *b)
 {
-    const uint32_t me = w->n_nodes++;
-    box b = {{DBL_MAX, DBL_MAX, DBL_MAX}, {-DBL_MAX, -DBL_MAX, -DBL_MAX}}, c = b;
-    for (uint32_t i = first; i < first + count; i++) {
-        const box *o = &bx[w->items[i]];
-        for (int k = 0; k < 3; k++) {
-            b.lo[k] = fmin(b.lo[k], o->lo[k]);
-            b.hi[k] = fmax(b.hi[k], o->hi[k]);
-            const double m = 0.5 * (o->lo[k] + o->hi[k]);
-            c.lo[k] = fmin(c.lo[k], m);
-            c.hi[k] = fmax(c.hi[k], m);
+    const double x = b->hi[0] - b->lo[0], y = b->hi[1] - b->lo[1], z = b->hi[2] - b->lo[2];
+    return x * y + y * z + z * x;
+}
+
+static void grow(box *b, const box *o)
+{
+    for (int k = 0; k < 3; k++) {
+        b->lo[k] = o->lo[k] < b->lo[k] ? o->lo[k] : b->lo[k];
+        b->hi[k] = o->hi[k] > b->hi[k] ? o->hi[k] : b->hi[k];
+    }
+}
+
+static const box EMPTY = {{DBL_MAX, DBL_MAX, DBL_MAX}, {-DBL_MAX, -DBL_MAX, -DBL_MAX}};
+
+/* The surface area heuristic's best split of the sorted items tmp[0, count)
+ * (cost in box areas times items, a box test costing one item test), at
+ * *at; returns its cost. rest: scratch of count boxes. */
+static double best_split(const box *bx, const keyed *tmp, uint32_t count, box *rest, uint32_t *at)
+{
+    box acc = EMPTY;
+    for (uint32_t i = count; i-- > 1;) { /* rest[i]: the box of items i.. */
+        grow(&acc, &bx[tmp[i].item]);
+        rest[i] = acc;
+    }
+    acc = EMPTY;
+    double best = DBL_MAX;
+    for (uint32_t i = 1; i < count; i++) {
+        grow(&acc, &bx[tmp[i - 1].item]);
+        const double c = area(&acc) * i + area(&rest[i]) * (count - i);
+        if (c < best) {
+            best = c;
+            *at = i;
         }
     }
+    return best;
+}
+
+/* Node over items [first, first + count): a leaf, or the split the surface
+ * area heuristic picks among the orders of the centres on each axis (ties
+ * by item, so every rank builds the same tree). An inner node's left child
+ * follows it; its `first` is the right child. */
+static int build(rt_world *w, const box *bx, keyed *tmp, box *rest, uint32_t first, uint32_t count)
+{
+    const uint32_t me = w->n_nodes++;
+    box b = EMPTY;
+    for (uint32_t i = first; i < first + count; i++)
+        grow(&b, &bx[w->items[i]]);
     wnode *n = &w->nodes[me];
     memcpy(n->lo, b.lo, sizeof b.lo);
     memcpy(n->hi, b.hi, sizeof b.hi);
     n->first = first;
     n->count = count;
-    if (count <= LEAF_ITEMS)
+    if (count <= 1)
         return (int)me;
-    int axis = 0;
-    for (int k = 1; k < 3; k++)
-        if (c.hi[k] - c.lo[k] > c.hi[axis] - c.lo[axis])
+    double best = area(&b) * (count - 1.0); /* a leaf: all items, less the box test it saves */
+    int axis = -1;
+    uint32_t at = 0;
+    for (int k = 0; k < 3; k++) {
+        for (uint32_t i = 0; i < count; i++) {
+            const uint32_t it = w->items[first + i];
+            tmp[i].key = bx[it].lo[k] + bx[it].hi[k];
+            tmp[i].item = it;
+        }
+        qsort(tmp, count, sizeof *tmp, by_key);
+        uint32_t a = 0;
+        const double c = best_split(bx, tmp, count, rest, &a) + area(&b); /* the two children's boxes tested */
+        if (c < best || (count > LEAF_ITEMS && axis < 0)) {
+            best = c;
             axis = k;
+            at = a;
+        }
+    }
+    if (axis < 0)
+        return (int)me;
     for (uint32_t i = 0; i < count; i++) {
         const uint32_t it = w->items[first + i];
         tmp[i].key = bx[it].lo[axis] + bx[it].hi[axis];
@@ -119,9 +167,8 @@ static int build(rt_world *w, const box *bx, keyed *tmp, uint32_t first, uint32_
     qsort(tmp, count, sizeof *tmp, by_key);
     for (uint32_t i = 0; i < count; i++)
         w->items[first + i] = tmp[i].item;
-    const uint32_t half = count / 2;
-    build(w, bx, tmp, first, half);
-    const int right = build(w, bx, tmp, first + half, count - half);
+    build(w, bx, tmp, rest, first, at);
+    const int right = build(w, bx, tmp, rest, first + at, count - at);
     w->nodes[me].first = (uint32_t)right;
     w->nodes[me].count = 0;
     return (int)me;
@@ -131,12 +178,12 @@ static quad_x quad_prep(const rt_quad *q)
 {
     quad_x x;
     x.q = q->q;
-    x.u = q->u;
-    x.v = q->v;
     const rt_vec3 N = rt_v3_cross(q->u, q->v);
     x.n = rt_v3_unit(N);
     x.d = rt_v3_dot(x.n, q->q);
-    x.w = rt_v3_scale(N, 1.0 / rt_v3_dot(N, N));
+    const rt_vec3 w = rt_v3_scale(N, 1.0 / rt_v3_dot(N, N));
+    x.ea = rt_v3_cross(q->v, w);
+    x.eb = rt_v3_cross(w, q->u);
     return x;
 }
 
@@ -157,7 +204,8 @@ int rt_world_build(rt_world **out, const rt_scene *s, int brute)
     w->nodes = malloc(2 * n * sizeof *w->nodes);
     box *bx = malloc(n * sizeof *bx);
     keyed *tmp = malloc(n * sizeof *tmp);
-    int st = (w->quads && w->items && w->nodes && bx && tmp) ? RT_OK : RT_ENOMEM;
+    box *rest = malloc(n * sizeof *rest);
+    int st = (w->quads && w->items && w->nodes && bx && tmp && rest) ? RT_OK : RT_ENOMEM;
     for (uint32_t i = 0; i < w->nq && !st; i++)
         w->quads[i] = quad_prep(&s->shapes.quads.items[i]);
     for (uint32_t i = 0; i < w->nitems && !st; i++) {
@@ -165,9 +213,10 @@ int rt_world_build(rt_world **out, const rt_scene *s, int brute)
         bx[i] = item_box(w, i);
     }
     if (!st && w->nitems && !brute)
-        build(w, bx, tmp, 0, w->nitems);
+        build(w, bx, tmp, rest, 0, w->nitems);
     free(bx);
     free(tmp);
+    free(rest);
     if (st) {
         rt_world_free(w);
         return st;
@@ -203,7 +252,7 @@ static int quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, 
     if (!(tt > tmin && tt <= tmax))
         return 0;
     const rt_vec3 hp = rt_v3_sub(rt_ray_at(ray, tt), q->q);
-    const double a = rt_v3_dot(q->w, rt_v3_cross(hp, q->v)), b = rt_v3_dot(q->w, rt_v3_cross(q->u, hp));
+    const double a = rt_v3_dot(hp, q->ea), b = rt_v3_dot(hp, q->eb);
     if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1))
         return 0;
     *t = tt;
@@ -234,24 +283,21 @@ static void test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double a
     }
 }
 
-static int box_hit(const wnode *n, const rt_vec3 *o, const rt_vec3 *inv, double tmin, double tmax)
+/* Whether the ray meets node n's box within [tmin, tmax]; *enter: where.
+ * A NaN slab bound (0 x inf, a ray in a face's plane) leaves the bound as
+ * it was: the comparisons below are false for it. */
+static inline int box_hit(const wnode *n, const rt_vec3 *o, const rt_vec3 *inv, double tmin, double tmax,
+                          double *enter)
 {
     const double oo[3] = {o->x, o->y, o->z}, id[3] = {inv->x, inv->y, inv->z};
     for (int k = 0; k < 3; k++) {
-        double t0 = (n->lo[k] - oo[k]) * id[k], t1 = (n->hi[k] - oo[k]) * id[k];
-        if (t0 > t1) {
-            const double x = t0;
-            t0 = t1;
-            t1 = x;
-        }
-        if (t0 > tmin) /* NaN (0 * inf) leaves the bound as it was */
-            tmin = t0;
-        if (t1 < tmax)
-            tmax = t1;
-        if (tmax < tmin)
-            return 0;
+        const double t0 = (n->lo[k] - oo[k]) * id[k], t1 = (n->hi[k] - oo[k]) * id[k];
+        const double near = t0 < t1 ? t0 : t1, far = t0 < t1 ? t1 : t0;
+        tmin = near > tmin ? near : tmin;
+        tmax = far < tmax ? far : tmax;
     }
-    return 1;
+    *enter = tmin;
+    return tmin <= tmax;
 }
 
 int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
@@ -264,21 +310,40 @@ int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double t
             test_item(w, i, ray, a, time, tmin, &best_t, &best);
     } else {
         const rt_vec3 inv = rt_v3(1.0 / ray->dir.x, 1.0 / ray->dir.y, 1.0 / ray->dir.z);
+        /* Nearer child first, each with where the ray enters its box: a
+         * box entered beyond the closest hit so far is skipped when popped
+         * (one touched at it may still hold a tie of lower index). */
         uint32_t stack[STACK];
+        double enter[STACK];
         int sp = 0;
-        stack[sp++] = 0;
+        double e0;
+        if (box_hit(&w->nodes[0], &ray->orig, &inv, tmin, best_t, &e0)) {
+            stack[sp] = 0;
+            enter[sp++] = e0;
+        }
         while (sp > 0) {
-            const uint32_t ni = stack[--sp];
-            const wnode *n = &w->nodes[ni];
-            /* a box touched at best_t may still hold a tie of lower index */
-            if (!box_hit(n, &ray->orig, &inv, tmin, best_t))
+            --sp;
+            if (enter[sp] > best_t)
                 continue;
+            const wnode *n = &w->nodes[stack[sp]];
             if (n->count) {
                 for (uint32_t k = n->first; k < n->first + n->count; k++)
                     test_item(w, w->items[k], ray, a, time, tmin, &best_t, &best);
-            } else if (sp + 2 <= STACK) {
-                stack[sp++] = n->first; /* right */
-                stack[sp++] = ni + 1;   /* left first */
+                continue;
+            }
+            const uint32_t l = stack[sp] + 1, r = n->first;
+            double el = 0, er = 0;
+            const int hl = box_hit(&w->nodes[l], &ray->orig, &inv, tmin, best_t, &el);
+            const int hr = box_hit(&w->nodes[r], &ray->orig, &inv, tmin, best_t, &er);
+            if (hl && hr && sp + 2 <= STACK) {
+                const int lfirst = el <= er;
+                stack[sp] = lfirst ? r : l;
+                enter[sp++] = lfirst ? er : el;
+                stack[sp] = lfirst ? l : r;
+                enter[sp++] = lfirst ? el : er;
+            } else if (hl || hr) {
+                stack[sp] = hl ? l : r;
+                enter[sp++] = hl ? el : er;
             }
         }
     }
@@ -366,8 +431,8 @@ void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, do
         rec->normal = rec->front_face ? q->n : rt_v3_neg(q->n);
         if (want_uv) {
             const rt_vec3 hp = rt_v3_sub(rec->p, q->q);
-            *u = rt_v3_dot(q->w, rt_v3_cross(hp, q->v));
-            *v = rt_v3_dot(q->w, rt_v3_cross(q->u, hp));
+            *u = rt_v3_dot(hp, q->ea);
+            *v = rt_v3_dot(hp, q->eb);
         }
         return;
     }

@@ -1,0 +1,84 @@
+#!/bin/bash
+# e2e_book2.sh BIN PNGINFO MPIRUN
+# Book 2's scenes: each renders; the same pixels for any -j, -np, --band,
+# --split, --passes, both samplers, and across an interrupt and --resume;
+# adaptive sampling and the denoiser's buffers work; the earth's texture
+# comes from --texture-dir, and a missing or bad one is bad input.
+BIN=$1 PNGINFO=$2 MPIRUN=${3:-}
+source "$(dirname "$0")/../support/lib.sh"
+px() { "$PNGINFO" "$1"; }
+
+# An earth texture of our own (a JPEG gradient), as earthmap.jpg.
+/usr/bin/python3 -c "
+from PIL import Image
+im = Image.new('RGB', (64, 32))
+im.putdata([(4 * x, 8 * y, 128) for y in range(32) for x in range(64)])
+im.save('$WORK/earthmap.jpg', quality=90)" || fail "could not write a test JPEG"
+T=(--texture-dir "$WORK")
+
+for s in bouncing-spheres checkered-spheres earth perlin-spheres quads simple-light cornell-box cornell-smoke \
+    book2-final; do
+    if "$BIN" --scene $s "${T[@]}" --width 40 -s 4 -j 2 -q -o "$WORK/$s.png" >"$WORK/$s.out" 2>"$WORK/$s.err"; then
+        pass "--scene $s renders: $(sed -n 's/^image: *//p' "$WORK/$s.out")"
+    else
+        fail "--scene $s: $(head -c 300 "$WORK/$s.err")"
+    fi
+done
+# The book's settings are the scene's defaults; a width alone keeps its aspect.
+check_eq "cornell-box's own size, samples and depth" "$(sed -n 's/^image: *//p' "$WORK/cornell-box.out")" \
+    "40x40, 4 spp, max depth 50, seed 42"
+"$BIN" --scene book2-final "${T[@]}" --dump-scene "$WORK/x.json" 2>"$WORK/d.err"
+check_eq "--dump-scene of a book-2 scene: exit status" $? 2
+
+# One image, many ways to cut the work: every result has the same pixels.
+same_as() { # label ref.png cmd...
+    local label=$1 ref=$2
+    shift 2
+    "$@" -q -o "$WORK/t.png" >/dev/null 2>"$WORK/t.err" || { fail "$label: $(head -c 300 "$WORK/t.err")"; return; }
+    check_eq "$label: same pixels" "$(px "$WORK/t.png")" "$(px "$ref")"
+}
+for s in book2-final cornell-smoke bouncing-spheres; do
+    A=(--scene $s "${T[@]}" --width 48 --height 36 -s 8 --max-depth 12)
+    for sm in sobol random; do
+        "$BIN" "${A[@]}" --sampler $sm -j 1 -q -o "$WORK/ref-$s-$sm.png" >/dev/null 2>&1
+        same_as "$s $sm -j 2 --band 1" "$WORK/ref-$s-$sm.png" "$BIN" "${A[@]}" --sampler $sm -j 2 --band 1
+    done
+    R="$WORK/ref-$s-sobol.png"
+    same_as "$s --passes 3" "$R" "$BIN" "${A[@]}" -j 2 --passes 3
+    if [ -n "$MPIRUN" ]; then
+        same_as "$s mpirun -np 3" "$R" mpirun_np 3 "$BIN" "${A[@]}" -j 1
+        same_as "$s mpirun -np 4 --split samples" "$R" mpirun_np 4 "$BIN" "${A[@]}" -j 1 --split samples --band 36
+        same_as "$s mpirun -np 5 --split columns" "$R" mpirun_np 5 "$BIN" "${A[@]}" -j 1 --split columns --band 36
+    else
+        skip "book 2 under mpirun: no mpirun"
+    fi
+done
+# Adaptive sampling and the buffers run the book-2 loop too.
+A=(--scene cornell-smoke --width 48 --height 36 -s 64 --max-depth 12 --noise-threshold 0.05 --aov albedo,normal)
+"$BIN" "${A[@]}" -j 1 -q -o "$WORK/ad1.png" >/dev/null 2>&1
+same_as "adaptive + aov -j 2" "$WORK/ad1.png" "$BIN" "${A[@]}" -j 2 --band 3
+[ -s "$WORK/ad1.albedo.pfm" ] && [ -s "$WORK/ad1.normal.pfm" ] && pass "aov buffers written" || fail "no aov buffers"
+
+# Interrupted and resumed: the same image.
+A=(--scene cornell-box --width 96 --height 64 -s 600 --max-depth 20 -q)
+"$BIN" "${A[@]}" -j 2 -o "$WORK/full.png" >/dev/null 2>&1
+"$BIN" "${A[@]}" -j 2 -o "$WORK/res.png" --checkpoint-interval 0 >/dev/null 2>"$WORK/res.err" &
+pid=$!
+for ((i = 0; i < 600; i++)); do [ -s "$WORK/res.png.ckpt" ] && break; sleep 0.1; done
+kill -TERM $pid
+wait $pid
+check_eq "cornell-box interrupted: exit status" $? 75
+"$BIN" "${A[@]}" -j 2 -o "$WORK/res.png" --resume >"$WORK/res.out" 2>&1
+check_eq "cornell-box resumed: exit status" $? 0
+check_eq "cornell-box resumed: same pixels" "$(px "$WORK/res.png")" "$(px "$WORK/full.png")"
+
+# The earth's texture: missing, not an image, truncated.
+expect_usage_error "earth without earthmap.jpg" "earthmap.jpg: no such file: scene 'earth' needs the book's earth texture" \
+    "$BIN" --scene earth --texture-dir "$WORK/out" --width 32 -s 1 -o "$WORK/out/e.png"
+mkdir -p "$WORK/bad" && echo "not an image" >"$WORK/bad/earthmap.jpg"
+expect_usage_error "earth: not an image" "bad/earthmap.jpg: not a PNG or JPEG file" \
+    "$BIN" --scene book2-final --texture-dir "$WORK/bad" --width 32 -s 1 -o "$WORK/out/e.png"
+head -c 300 "$WORK/earthmap.jpg" >"$WORK/bad/earthmap.jpg"
+expect_usage_error "earth: truncated JPEG" "bad/earthmap.jpg: image file is truncated" \
+    "$BIN" --scene earth --texture-dir "$WORK/bad" --width 32 -s 1 -o "$WORK/out/e.png"
+finish

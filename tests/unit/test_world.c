@@ -1,0 +1,318 @@
+/* test_world.c - book 2's geometry: quads and boxes against closed forms,
+ * moving spheres at their time, the quads' BVH against brute force on
+ * book 2's scenes, instances flattened exactly, the media's spans and
+ * free flights (transmittance exp(-d L)), and the scene bytes' round trip. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "detmath.h"
+#include "rng.h"
+#include "scenes.h"
+#include "status.h"
+#include "texture.h"
+#include "world.h"
+#include "xform.h"
+
+static rt_ray ray_of(rt_vec3 o, rt_vec3 d)
+{
+    rt_ray r = {o, d};
+    return r;
+}
+
+/* A quad hit and missed at closed-form points. */
+static void check_quad(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t m;
+    rt_material lam = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    /* the unit square at z = -2, x and y in [1, 3] */
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(1, 1, -2), rt_v3(2, 0, 0), rt_v3(0, 2, 0), m, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, 0), rt_v3(1, 0, 0), rt_v3(2, 0, 0), m, NULL), RT_EINVAL);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, 0), rt_v3(NAN, 0, 0), rt_v3(0, 1, 0), m, NULL), RT_EINVAL);
+    CHECK_EQ_INT(s.shapes.quads.n, 1);
+    rt_world *w;
+    CHECK_EQ_INT(rt_world_build(&w, &s, 0), RT_OK);
+    rt_whit h;
+    rt_ray r = ray_of(rt_v3(2, 1.5, 0), rt_v3(0, 0, -2)); /* |dir| 2: t in units of it */
+    CHECK_EQ_INT(rt_world_closest(w, &r, 0, 0.001, INFINITY, &h), 1);
+    CHECK_NEAR(h.t, 1.0, 1e-15);
+    CHECK_EQ_INT(h.kind, RT_SHAPE_QUAD);
+    rt_surface rec;
+    double u, v;
+    rt_world_surface(w, &h, &r, 0, 1, &rec, &u, &v);
+    CHECK_NEAR(u, 0.5, 1e-15);
+    CHECK_NEAR(v, 0.25, 1e-15);
+    CHECK_EQ_INT(rec.front_face, 1); /* u x v = +z faces the ray coming from +z */
+    CHECK_NEAR(rec.normal.z, 1.0, 0);
+    r = ray_of(rt_v3(3.01, 1.5, 0), rt_v3(0, 0, -1)); /* just outside an edge */
+    CHECK_EQ_INT(rt_world_closest(w, &r, 0, 0.001, INFINITY, &h), 0);
+    r = ray_of(rt_v3(2, 2, 0), rt_v3(0, 0, -1));
+    CHECK_EQ_INT(rt_world_closest(w, &r, 0, 0.001, 1.5, &h), 0); /* beyond tmax */
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
+/* A moving sphere is where its time puts it; its box holds both ends. */
+static void check_mover(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t m;
+    rt_material lam = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(0, 0, -5), rt_v3(4, 0, -5), 1, m, NULL), RT_OK);
+    rt_world *w;
+    for (int brute = 0; brute < 2; brute++) {
+        CHECK_EQ_INT(rt_world_build(&w, &s, brute), RT_OK);
+        rt_whit h;
+        rt_ray r = ray_of(rt_v3(3, 0, 0), rt_v3(0, 0, -1));
+        CHECK_EQ_INT(rt_world_closest(w, &r, 0.0, 0.001, INFINITY, &h), 0); /* at time 0 it is at x = 0 */
+        CHECK_EQ_INT(rt_world_closest(w, &r, 0.75, 0.001, INFINITY, &h), 1); /* centre at x = 3 */
+        CHECK_NEAR(h.t, 4.0, 1e-12);
+        CHECK_EQ_INT(h.kind, RT_SHAPE_MOVER);
+        rt_world_free(w);
+    }
+    rt_scene_free(&s);
+}
+
+/* The BVH finds brute force's hit (kind, index and t to the bit) for
+ * random rays in book 2's scenes with quads and moving spheres. */
+static void check_bvh_vs_brute(const char *name)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
+    rt_world *wb, *wf;
+    CHECK_EQ_INT(rt_world_build(&wb, &s, 0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wf, &s, 1), RT_OK);
+    rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
+    int hits = 0, same = 0;
+    const int N = 20000;
+    const rt_vec3 from = s.camera.lookfrom, at = s.camera.lookat;
+    const double span = 0.6 * rt_v3_len(rt_v3_sub(from, at));
+    for (int i = 0; i < N; i++) {
+        /* origins inside and around the scene, any direction */
+        rt_vec3 o = rt_v3_add(at, rt_v3(span * (rt_rng_double(&rng) - 0.5), span * (rt_rng_double(&rng) - 0.5),
+                                        span * (rt_rng_double(&rng) - 0.5)));
+        if (i % 4 == 0)
+            o = from;
+        rt_vec3 d = rt_sample_unit_vector(&rng);
+        if (i % 16 == 1) /* axis-aligned rays: zero direction components */
+            d = rt_v3(0, i % 32 == 1 ? -1 : 0, i % 32 == 1 ? 0 : 1);
+        const rt_ray r = ray_of(o, d);
+        const double time = rt_rng_double(&rng);
+        rt_whit a = {0, 0, 0}, b = {0, 0, 0};
+        const int ha = rt_world_closest(wb, &r, time, 0.001, INFINITY, &a);
+        const int hb = rt_world_closest(wf, &r, time, 0.001, INFINITY, &b);
+        hits += hb;
+        same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index));
+        if (!(ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index))) && same + 5 > i)
+            fprintf(stderr, "  %s ray %d: bvh %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n",
+                    name, i, ha, a.t, a.kind, a.index, hb, b.t, b.kind, b.index);
+    }
+    fprintf(stderr, "%s: %d rays, %d hit, %d the same from BVH and brute force\n", name, N, hits, same);
+    CHECK_EQ_INT(same, N);
+    CHECK(hits > N / 20);
+    rt_world_free(wb);
+    rt_world_free(wf);
+    rt_scene_free(&s);
+}
+
+/* A rotated and moved box is the book's instance: its corners where the
+ * book's rotate_y then translate put them. */
+static void check_instance(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t m;
+    rt_material lam = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    const rt_xform r = rt_xform_rotate_y(90), t = rt_xform_translate(rt_v3(10, 0, 0));
+    const rt_xform x = rt_xform_then(&r, &t);
+    CHECK_EQ_INT(rt_scene_add_box(&s, rt_v3(0, 0, 0), rt_v3(1, 2, 3), m, &x), RT_OK);
+    CHECK_EQ_INT(s.shapes.quads.n, 6);
+    /* rotate_y(90): x' = z, z' = -x; the far corner (1, 2, 3) -> (3, 2, -1) + (10, 0, 0) */
+    double hi[3] = {-1e9, -1e9, -1e9}, lo[3] = {1e9, 1e9, 1e9};
+    for (uint32_t i = 0; i < 6; i++) {
+        const rt_quad *q = &s.shapes.quads.items[i];
+        const rt_vec3 c[4] = {q->q, rt_v3_add(q->q, q->u), rt_v3_add(q->q, q->v),
+                              rt_v3_add(rt_v3_add(q->q, q->u), q->v)};
+        for (int k = 0; k < 4; k++) {
+            const double p[3] = {c[k].x, c[k].y, c[k].z};
+            for (int a = 0; a < 3; a++) {
+                hi[a] = fmax(hi[a], p[a]);
+                lo[a] = fmin(lo[a], p[a]);
+            }
+        }
+    }
+    CHECK_NEAR(lo[0], 10, 1e-12);
+    CHECK_NEAR(hi[0], 13, 1e-12);
+    CHECK_NEAR(lo[2], -1, 1e-12);
+    CHECK_NEAR(hi[2], 0, 1e-12);
+    CHECK_NEAR(hi[1], 2, 1e-12);
+    /* each face's normal points out of the box */
+    const rt_vec3 centre = rt_v3(11.5, 1, -0.5);
+    for (uint32_t i = 0; i < 6; i++) {
+        const rt_quad *q = &s.shapes.quads.items[i];
+        const rt_vec3 mid = rt_v3_add(q->q, rt_v3_scale(rt_v3_add(q->u, q->v), 0.5));
+        CHECK(rt_v3_dot(rt_v3_cross(q->u, q->v), rt_v3_sub(mid, centre)) > 0);
+    }
+    /* a sphere of a rotated instance keeps its (u, v) through a frame */
+    CHECK_EQ_INT(rt_scene_add_sphere_x(&s, rt_v3(0, 0, 1), 1, m, &x), RT_OK);
+    CHECK_EQ_INT(s.spheres[0].frame, 1);
+    CHECK_NEAR(s.spheres[0].center.x, 11, 1e-12);
+    CHECK_EQ_INT(rt_scene_add_sphere_x(&s, rt_v3(0, 0, 1), 1, m, &t), RT_OK); /* no rotation: no frame */
+    CHECK_EQ_INT(s.spheres[1].frame, 0);
+    rt_scene_free(&s);
+}
+
+/* The fraction of rays through a slab of medium of density d and
+ * thickness L that are not scattered is exp(-d L) (one flight each). */
+static void check_transmittance(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t iso;
+    rt_material m = rt_scene_isotropic(rt_v3(1, 1, 1));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, &iso), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_medium_box(&s, rt_v3(-100, -100, -3), rt_v3(100, 100, -1), 0.5, iso, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_medium_box(&s, rt_v3(0, 0, 0), rt_v3(1, 1, 1), -1, iso, NULL), RT_EINVAL);
+    CHECK_EQ_INT(rt_scene_add_medium_sphere(&s, rt_v3(0, 0, 0), 1, NAN, iso), RT_EINVAL);
+    rt_world *w;
+    CHECK_EQ_INT(rt_world_build(&w, &s, 0), RT_OK);
+    double t0, t1;
+    const rt_ray r = ray_of(rt_v3(0, 0, 0), rt_v3(0, 0, -2));
+    CHECK_EQ_INT(rt_world_medium_span(w, 0, &r, &t0, &t1), 1);
+    CHECK_NEAR(t0, 0.5, 1e-12);
+    CHECK_NEAR(t1, 1.5, 1e-12);
+    /* the flight the path loop draws: optical depth -ln(1 - u) */
+    rt_rng rng = rt_rng_for_stream(3, RT_STREAM_TEST);
+    const int N = 200000;
+    int through = 0;
+    for (int i = 0; i < N; i++)
+        through += -rt_det_log(1.0 - rt_rng_double(&rng)) >= 0.5 * (t1 - t0) * 2.0;
+    const double p = exp(-0.5 * 2.0), se = sqrt(p * (1 - p) / N);
+    fprintf(stderr, "slab d 0.5 L 2: %.5f unscattered, exp(-1) = %.5f (se %.5f)\n", (double)through / N, p, se);
+    CHECK(fabs((double)through / N - p) < 4 * se);
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
+/* log and sin without libm, against libm. */
+static void check_detmath(void)
+{
+    double worst_log = 0, worst_sin = 0;
+    rt_rng rng = rt_rng_for_stream(5, RT_STREAM_TEST);
+    for (int i = 0; i < 100000; i++) {
+        const double x = exp(rt_rng_range(&rng, -700, 700));
+        worst_log = fmax(worst_log, fabs(rt_det_log(x) - log(x)) / fmax(1.0, fabs(log(x))));
+        const double a = rt_rng_range(&rng, -200, 200);
+        worst_sin = fmax(worst_sin, fabs(rt_det_sin(a) - sin(a)));
+    }
+    CHECK(worst_log < 1e-14);
+    CHECK(worst_sin < 1e-7);
+    CHECK_NEAR(rt_det_log(1.0), 0.0, 0);
+    CHECK(rt_det_log(0.0) == -INFINITY);
+    CHECK_NEAR(rt_det_log(4.9406564584124654e-324), -744.44007192138122, 1e-12); /* subnormal */
+}
+
+/* Texture values: the checker's cells, the image's nearest texel, noise
+ * tables that depend on the seed only. */
+static void check_textures(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t a, b, c, img, it, n;
+    rt_texture ta = {.kind = RT_TEX_SOLID, .color = {1, 0, 0}}, tb = {.kind = RT_TEX_SOLID, .color = {0, 0, 1}};
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &ta, &a), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &tb, &b), RT_OK);
+    rt_texture tc = {.kind = RT_TEX_CHECKER, .scale = 0.5, .even = a, .odd = b};
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &tc, &c), RT_OK);
+    rt_texture bad = {.kind = RT_TEX_CHECKER, .scale = 0.5, .even = a, .odd = 7}; /* not listed before */
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &bad, NULL), RT_EINVAL);
+    const uint8_t px[2 * 2 * 3] = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120};
+    CHECK_EQ_INT(rt_scene_add_image(&s, 2, 2, px, &img), RT_OK);
+    rt_texture ti = {.kind = RT_TEX_IMAGE, .image = img};
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &ti, &it), RT_OK);
+    rt_texture tn = {.kind = RT_TEX_NOISE, .color = {1, 1, 1}, .scale = 4, .mode = RT_NOISE_MARBLE};
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &tn, &n), RT_OK);
+    rt_perlin p1, p2, p3;
+    rt_perlin_init(&p1, 1);
+    rt_perlin_init(&p2, 1);
+    rt_perlin_init(&p3, 2);
+    CHECK(memcmp(&p1, &p2, sizeof p1) == 0);
+    CHECK(memcmp(&p1, &p3, sizeof p1) != 0);
+    /* cells of 0.5: (0.2, 0.2, 0.2) is cell (0, 0, 0), even; (0.7, 0.2, 0.2) odd; (-0.2, 0.2, 0.2) odd */
+    CHECK_NEAR(rt_texture_value(&s, &p1, c, 0, 0, rt_v3(0.2, 0.2, 0.2)).x, 1, 0);
+    CHECK_NEAR(rt_texture_value(&s, &p1, c, 0, 0, rt_v3(0.7, 0.2, 0.2)).z, 1, 0);
+    CHECK_NEAR(rt_texture_value(&s, &p1, c, 0, 0, rt_v3(-0.2, 0.2, 0.2)).z, 1, 0);
+    /* (u, v) = (0.9, 0.9): the top row (v flipped), right column: texel (1, 0) */
+    const rt_vec3 tx = rt_texture_value(&s, &p1, it, 0.9, 0.9, rt_v3(0, 0, 0));
+    CHECK_NEAR(tx.x, 40 / 255.0, 1e-15);
+    CHECK_NEAR(rt_texture_value(&s, &p1, it, -5, -5, rt_v3(0, 0, 0)).x, 70 / 255.0, 1e-15); /* clamped */
+    double lo = 1, hi = 0;
+    rt_rng rng = rt_rng_for_stream(8, RT_STREAM_TEST);
+    for (int i = 0; i < 10000; i++) {
+        const rt_vec3 q = rt_v3(rt_rng_range(&rng, -5, 5), rt_rng_range(&rng, -5, 5), rt_rng_range(&rng, -5, 5));
+        const double v = rt_texture_value(&s, &p1, n, 0, 0, q).x;
+        lo = fmin(lo, v);
+        hi = fmax(hi, v);
+        CHECK(fabs(rt_perlin_noise(&p1, q)) <= 1.0);
+    }
+    CHECK(lo >= 0 && lo < 0.05 && hi <= 1 && hi > 0.95); /* marble: the full range of 0.5 (1 + sin) */
+    rt_scene_free(&s);
+}
+
+/* Every book-2 scene's bytes round-trip exactly; a flipped byte is refused. */
+static void check_bytes(void)
+{
+    static const uint8_t earth[4 * 2 * 3] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24};
+    const rt_scene_image img = {4, 2, earth};
+    for (unsigned i = 0; i < rt_scenes_count(); i++) {
+        const rt_scene_info *in = rt_scenes_info(i);
+        if (in->book != 2)
+            continue;
+        rt_scene s, t;
+        CHECK_EQ_INT(rt_scene_build_named(&s, in->name, 42, 11, &img), RT_OK);
+        CHECK(rt_scene_is_book2(&s));
+        uint8_t *b1, *b2;
+        size_t n1, n2;
+        CHECK_EQ_INT(rt_scene_serialize(&s, &b1, &n1), RT_OK);
+        CHECK_EQ_INT(b1[8], 2); /* version 2 */
+        CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1), RT_OK);
+        CHECK_EQ_INT(rt_scene_serialize(&t, &b2, &n2), RT_OK);
+        if (!(n1 == n2 && memcmp(b1, b2, n1) == 0)) {
+            size_t k = 0;
+            while (k < n1 && k < n2 && b1[k] == b2[k])
+                k++;
+            fprintf(stderr, "  %s: %zu and %zu bytes, first difference at %zu\n", in->name, n1, n2, k);
+        }
+        CHECK(n1 == n2 && memcmp(b1, b2, n1) == 0);
+        b1[n1 / 2] ^= 1;
+        CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1), RT_ECHECKSUM);
+        CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1 - 9), RT_EFORMAT);
+        free(b1);
+        free(b2);
+        rt_scene_free(&s);
+        if (in->needs_earth)
+            CHECK_EQ_INT(rt_scene_build_named(&s, in->name, 42, 11, NULL), RT_ENOFILE);
+    }
+}
+
+int main(void)
+{
+    check_quad();
+    check_mover();
+    check_instance();
+    check_bvh_vs_brute("cornell-box");
+    check_bvh_vs_brute("cornell-smoke");
+    check_bvh_vs_brute("bouncing-spheres");
+    check_bvh_vs_brute("quads");
+    check_transmittance();
+    check_detmath();
+    check_textures();
+    check_bytes();
+    CHECK_DONE();
+}
