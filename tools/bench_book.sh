@@ -1,0 +1,103 @@
+#!/bin/bash
+# bench_book.sh --book DIR [--scene NAME] [--width W] [--spp S] [--depth D]
+#               [--rounds N] [--compare] [--rt-opts "..."]
+# rt-mpi against the book series' own program on one of book 2's scenes, at
+# the same size, samples and depth, one core each, measured in this one run:
+#   - speed: paths per second of each whole process (width x height x spp
+#     over wall time), the median of --rounds interleaved runs (default 3),
+#     and the ratio;
+#   - with --compare: the images as the viewer sees them (8-bit, gamma 2,
+#     which both programs write): channel means, and the block-8 RMSE of
+#     ours against the book's, beside the book's against itself rendered
+#     with another random stream (tools/compare_images.py).
+# DIR is a checkout of the book's programs (RayTracing/raytracing.github.io,
+# v4.0.0-alpha.1: its src/TheNextWeek and src/external, and images/ or the
+# directory itself holding earthmap.jpg). The program is built unchanged but
+# for the size, samples and depth, and for `srand(BOOK_SEED)` at the start of
+# main (its random numbers come from rand(); seed 1 is its own default), in
+# $BENCH_BOOK_DIR (default build-bench-book/). Both sides trace brute-force
+# paths: rt-mpi runs --no-roulette (the book has no roulette).
+# Scene names and the book's numbers: bouncing-spheres 1, checkered-spheres
+# 2, earth 3, perlin-spheres 4, quads 5, simple-light 6, cornell-box 7,
+# cornell-smoke 8, book2-final 9.
+set -euo pipefail
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$ROOT/tools/bench_lib.sh"
+DIR=${BENCH_BOOK_DIR:-$ROOT/build-bench-book}
+BOOK="" SCENE=cornell-box W=200 SPP=16 DEPTH=40 ROUNDS=3 COMPARE=0 RTOPTS=""
+while [ $# -gt 0 ]; do
+    case $1 in
+    --book) BOOK=$2; shift ;;
+    --scene) SCENE=$2; shift ;;
+    --width) W=$2; shift ;;
+    --spp) SPP=$2; shift ;;
+    --depth) DEPTH=$2; shift ;;
+    --rounds) ROUNDS=$2; shift ;;
+    --compare) COMPARE=1 ;;
+    --rt-opts) RTOPTS=$2; shift ;;
+    *) echo "bench_book.sh: unknown option $1" >&2; exit 2 ;;
+    esac
+    shift
+done
+[ -n "$BOOK" ] && [ -d "$BOOK/src/TheNextWeek" ] ||
+    { echo "bench_book.sh: --book DIR must hold the book's src/TheNextWeek" >&2; exit 2; }
+for v in "$W" "$SPP" "$DEPTH" "$ROUNDS"; do
+    [[ $v =~ ^[1-9][0-9]*$ ]] || { echo "bench_book.sh: sizes and counts must be positive numbers" >&2; exit 2; }
+done
+case $SCENE in
+bouncing-spheres) NUM=1 ASPECT=16/9 ;; checkered-spheres) NUM=2 ASPECT=16/9 ;; earth) NUM=3 ASPECT=16/9 ;;
+perlin-spheres) NUM=4 ASPECT=16/9 ;; quads) NUM=5 ASPECT=1 ;; simple-light) NUM=6 ASPECT=16/9 ;;
+cornell-box) NUM=7 ASPECT=1 ;; cornell-smoke) NUM=8 ASPECT=1 ;; book2-final) NUM=9 ASPECT=1 ;;
+*) echo "bench_book.sh: unknown scene '$SCENE'" >&2; exit 2 ;;
+esac
+# The book's height: int(width / aspect), at least 1.
+H=$(awk -v w="$W" -v a="$ASPECT" 'BEGIN {split(a, f, "/"); h = int(w / (f[1] / (f[2] ? f[2] : 1))); print h < 1 ? 1 : h}')
+EARTH_DIR=$BOOK
+[ -f "$BOOK/images/earthmap.jpg" ] && EARTH_DIR=$BOOK/images
+
+# The book's program for this scene and size, built once.
+PROG=$DIR/book-$NUM-$W-$SPP-$DEPTH/prog
+if [ ! -x "$PROG" ]; then
+    B=$(dirname "$PROG")
+    rm -rf "$B" && mkdir -p "$B"
+    cp -r "$BOOK/src/TheNextWeek" "$BOOK/src/external" "$B/" && chmod -R u+w "$B"
+    cam=$B/TheNextWeek/camera.h main=$B/TheNextWeek/main.cc
+    grep -q '    void initialize() {' "$cam" && grep -q 'switch (0)' "$main" && grep -q '^int main() {' "$main" ||
+        { echo "bench_book.sh: $BOOK is not the book version this script knows (v4.0.0-alpha.1)" >&2; exit 2; }
+    sed -i "s|^    void initialize() {|&\n        image_width = $W; samples_per_pixel = $SPP; max_depth = $DEPTH;|" "$cam"
+    sed -i "s/switch (0)/switch ($NUM)/; s|^int main() {|&\n    { const char *e = getenv(\"BOOK_SEED\"); srand(e ? atoi(e) : 1); }|" "$main"
+    sed -i '1i #include <cstdlib>' "$main"
+    g++ -O3 -march=x86-64 -I"$B" -o "$PROG" "$main" 2>"$B/build.log" ||
+        { tail -5 "$B/build.log" >&2; echo "bench_book.sh: the book's program did not build" >&2; exit 2; }
+fi
+BIN=$(RT_BUILD_TARGET=rt-mpi "$ROOT/scripts/setup.sh" "$ROOT/build") # builds (or brings up to date)
+OUT=$DIR/run-$SCENE-$W-$SPP-$DEPTH
+mkdir -p "$OUT"
+
+# wall SECONDS-FILE command...: runs it, stores its wall time in seconds.
+wall() {
+    local f=$1 t0 t1
+    shift
+    t0=$(date +%s.%N)
+    "$@"
+    t1=$(date +%s.%N)
+    awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.3f\n", b - a}' >>"$f"
+}
+rm -f "$OUT"/*.sec
+for ((r = 1; r <= ROUNDS; r++)); do
+    (cd "$OUT" && RTW_IMAGES=$EARTH_DIR BOOK_SEED=1 wall "$OUT/book.sec" "$PROG" >"$OUT/book1.ppm" 2>/dev/null)
+    # shellcheck disable=SC2086 # RTOPTS is a list of options
+    wall "$OUT/ours.sec" "$BIN" --scene "$SCENE" --texture-dir "$EARTH_DIR" --width "$W" --height "$H" -s "$SPP" \
+        --max-depth "$DEPTH" --no-roulette -j 1 -q $RTOPTS -o "$OUT/ours.png" >"$OUT/ours.txt"
+done
+tb=$(median <"$OUT/book.sec") to=$(median <"$OUT/ours.sec")
+paths=$((W * H * SPP))
+echo "scene $SCENE (book 2 scene $NUM), ${W}x${H}, $SPP spp, depth $DEPTH, one core each, median of $ROUNDS"
+printf '  book program: %8.3f s  %10.0f paths/s\n' "$tb" "$(awk -v p=$paths -v t="$tb" 'BEGIN {print p / t}')"
+printf '  rt-mpi -j 1:  %8.3f s  %10.0f paths/s\n' "$to" "$(awk -v p=$paths -v t="$to" 'BEGIN {print p / t}')"
+echo "  rt-mpi / book (paths per second): $(ratio "$tb" "$to")"
+if [ "$COMPARE" = 1 ]; then
+    (cd "$OUT" && RTW_IMAGES=$EARTH_DIR BOOK_SEED=2 "$PROG" >"$OUT/book2.ppm" 2>/dev/null)
+    /usr/bin/python3 "$ROOT/tools/compare_images.py" --ref "$OUT/book1.ppm" \
+        "rt-mpi=$OUT/ours.png" "book, other stream=$OUT/book2.ppm"
+fi
