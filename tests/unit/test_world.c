@@ -7,6 +7,7 @@
 
 #include "check.h"
 #include "detmath.h"
+#include "hash.h"
 #include "rng.h"
 #include "scenes.h"
 #include "status.h"
@@ -265,6 +266,47 @@ static void check_textures(void)
     rt_scene_free(&s);
 }
 
+/* Hostile bytes with a valid checksum (the checksum guards against
+ * accidents, not against a crafted buffer): each of many single-byte
+ * changes loads or is refused with RT_EFORMAT, never read out of bounds
+ * (the sanitizer build runs this) or accepted with an index out of range. */
+static void check_hostile_bytes(const uint8_t *b, size_t n, const char *name)
+{
+    uint8_t *m = malloc(n);
+    rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
+    int loaded = 0, refused = 0, other = 0;
+    for (int i = 0; i < 3000; i++) {
+        memcpy(m, b, n);
+        const size_t at = 8 + (size_t)(rt_rng_next(&rng) % (n - 16)); /* past the magic, before the checksum */
+        m[at] = (uint8_t)rt_rng_next(&rng);
+        if (i % 3 == 0) /* a count or an index set huge */
+            m[at] = 0xff;
+        const uint64_t h = rt_hash_bytes(RT_HASH_INIT, m, n - 8);
+        for (int k = 0; k < 8; k++)
+            m[n - 8 + k] = (uint8_t)(h >> (8 * k));
+        rt_scene t;
+        const int st = rt_scene_deserialize(&t, m, n);
+        if (st == RT_OK) {
+            loaded++;
+            for (uint32_t q = 0; q < t.shapes.quads.n; q++) /* every index in range */
+                if (t.shapes.quads.items[q].material >= t.n_materials)
+                    other++;
+            for (uint32_t k = 0; k < t.n_materials; k++)
+                if (t.materials[k].texture > t.tex.textures.n)
+                    other++;
+            rt_scene_free(&t);
+        } else if (st == RT_EFORMAT || st == RT_EVERSION) {
+            refused++;
+        } else {
+            other++;
+        }
+    }
+    fprintf(stderr, "%s: 3000 hostile byte changes: %d loaded, %d refused, %d otherwise\n", name, loaded, refused, other);
+    CHECK_EQ_INT(other, 0);
+    CHECK(refused > 100);
+    free(m);
+}
+
 /* Every book-2 scene's bytes round-trip exactly; a flipped byte is refused. */
 static void check_bytes(void)
 {
@@ -290,6 +332,9 @@ static void check_bytes(void)
             fprintf(stderr, "  %s: %zu and %zu bytes, first difference at %zu\n", in->name, n1, n2, k);
         }
         CHECK(n1 == n2 && memcmp(b1, b2, n1) == 0);
+        if (!strcmp(in->name, "cornell-smoke") || !strcmp(in->name, "earth") || !strcmp(in->name, "quads") ||
+            !strcmp(in->name, "checkered-spheres"))
+            check_hostile_bytes(b1, n1, in->name);
         b1[n1 / 2] ^= 1;
         CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1), RT_ECHECKSUM);
         CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1 - 9), RT_EFORMAT);
