@@ -166,10 +166,21 @@ static inline void rt_sampler_pair_keys(uint64_t key, uint32_t pair, uint32_t *s
  * seed; pair 0 keeps the index's order, the others are shuffled against
  * it), is v: v is the van der Corput fraction of the shuffled index, the
  * first coordinate with no reversal back; each coordinate then takes a
- * random digital shift (xor) of its own. */
-static inline uint64_t rt_sampler_point(uint32_t v, uint64_t shift)
+ * random digital shift (xor) of its own. The definition. */
+static inline uint64_t rt_sampler_point_of(uint32_t v, uint64_t shift)
 {
     return ((uint64_t)v << 32 | rt_sampler_sobol1(v)) ^ shift;
+}
+
+/* The same by table: the unshifted point is linear over GF(2) in v's
+ * bits, so it is the xor of the points of v's four bytes, each from a
+ * table of 256 (sampler.c): four loads and xors in place of the
+ * transform's fifteen operations and the merge. */
+extern const uint64_t rt_sampler_point_table[4][256];
+static inline uint64_t rt_sampler_point(uint32_t v, uint64_t shift)
+{
+    const uint64_t(*t)[256] = rt_sampler_point_table;
+    return t[0][v & 0xffu] ^ t[1][(v >> 8) & 0xffu] ^ t[2][(v >> 16) & 0xffu] ^ t[3][v >> 24] ^ shift;
 }
 
 /* Pair `pair` of the sample whose index, bit-reversed, is rev_index, of the
@@ -180,7 +191,24 @@ static inline uint64_t rt_sampler_sobol_pair(uint64_t key, uint32_t rev_index, u
     uint32_t seed;
     uint64_t shift;
     rt_sampler_pair_keys(key, pair, &seed, &shift);
-    return rt_sampler_point(pair ? rt_sampler_nested(rev_index, seed) : rev_index, shift);
+    return rt_sampler_point_of(pair ? rt_sampler_nested(rev_index, seed) : rev_index, shift);
+}
+
+/* Pair 0 of sample `index` before its shift, by table: both its
+ * coordinates are linear over GF(2) in the index's bits too (the
+ * reversal, then rt_sampler_sobol1), so it is the xor of the points of
+ * the index's bytes, from tables of their own (sampler.c). Its first
+ * coordinate is the bit-reversed index, which the other pairs' shuffles
+ * take: four loads and xors in place of a reversal, a transform and a
+ * merge. */
+extern const uint64_t rt_sampler_pair0_table[4][256];
+static inline uint64_t rt_sampler_pair0(uint32_t index)
+{
+    const uint64_t(*t)[256] = rt_sampler_pair0_table;
+    uint64_t p = t[0][index & 0xffu] ^ t[1][(index >> 8) & 0xffu];
+    if (index >> 16) /* a pixel's first 65536 samples need no more */
+        p ^= t[2][(index >> 16) & 0xffu] ^ t[3][index >> 24];
+    return p;
 }
 
 /* ---- a pixel's sampler, a sample's sampler: the interface ----------------- */
@@ -200,7 +228,10 @@ typedef struct rt_sampler_pixel {
 } rt_sampler_pixel;
 
 typedef struct rt_sampler {
-    rt_rng rng;                 /* random: the sample's stream */
+    union {                     /* by kind: a path keeps its sampler, keep it small */
+        rt_rng rng;             /* random: the sample's stream */
+        uint64_t point0;        /* sobol: pair 0 before its shift (rt_sampler_pair0) */
+    };
     const rt_sampler_pixel *px; /* sobol: its pixel's */
     uint32_t rev_index;         /* sobol: the sample's index in its pixel, bit-reversed */
     uint32_t dim;               /* sobol: the next request's dimension */
@@ -221,11 +252,14 @@ static inline void rt_sampler_for_pixel(rt_sampler_pixel *px, int kind, uint64_t
 static inline rt_sampler rt_sampler_start(const rt_sampler_pixel *px, uint32_t sample)
 {
     rt_sampler s;
-    s.rng.state = 0;
-    if (px->kind == RT_SAMPLER_RANDOM)
+    if (px->kind == RT_SAMPLER_RANDOM) {
         s.rng = rt_rng_for_pixel_sample(px->key, sample);
+        s.rev_index = 0;
+    } else {
+        s.point0 = rt_sampler_pair0(sample);
+        s.rev_index = (uint32_t)(s.point0 >> 32);
+    }
     s.px = px;
-    s.rev_index = px->kind == RT_SAMPLER_RANDOM ? 0 : rt_sampler_reverse(sample);
     s.dim = RT_SAMPLER_DIM_PIXEL;
     s.kind = px->kind;
     return s;
@@ -234,7 +268,7 @@ static inline rt_sampler rt_sampler_start(const rt_sampler_pixel *px, uint32_t s
 /* A random sampler drawing from r (tests and tools). */
 static inline rt_sampler rt_sampler_from_rng(rt_rng r)
 {
-    rt_sampler s = {r, NULL, 0, 0, RT_SAMPLER_RANDOM};
+    rt_sampler s = {{r}, NULL, 0, 0, RT_SAMPLER_RANDOM};
     return s;
 }
 
@@ -242,10 +276,13 @@ static inline rt_sampler rt_sampler_from_rng(rt_rng r)
 static inline uint64_t rt_sampler_pair(const rt_sampler *s, uint32_t pair)
 {
     if (pair == 0)
-        return rt_sampler_point(s->rev_index, s->px->shift[0]);
+        return s->point0 ^ s->px->shift[0];
     if (pair < RT_SAMPLER_KEPT)
         return rt_sampler_point(rt_sampler_nested(s->rev_index, s->px->seed[pair]), s->px->shift[pair]);
-    return rt_sampler_sobol_pair(s->px->key, s->rev_index, pair);
+    uint32_t seed;
+    uint64_t shift;
+    rt_sampler_pair_keys(s->px->key, pair, &seed, &shift);
+    return rt_sampler_point(rt_sampler_nested(s->rev_index, seed), shift);
 }
 
 /* The next requests are the bounce's at depth (where the segment at depth
@@ -302,7 +339,8 @@ static inline void rt_sampler_pixel2d(rt_sampler *s, double *du, double *dv)
         *dv = rt_rng_double(&s->rng);
         return;
     }
-    const uint64_t v = rt_sampler_get2d(s);
+    s->dim = RT_SAMPLER_DIM_PIXEL + 2u;
+    const uint64_t v = rt_sampler_pair(s, RT_SAMPLER_DIM_PIXEL / 2u);
     *du = rt_warp_unit((uint32_t)(v >> 32));
     *dv = rt_warp_unit((uint32_t)v);
 }
@@ -312,8 +350,8 @@ static inline rt_vec3 rt_sampler_lens(rt_sampler *s)
 {
     if (s->kind == RT_SAMPLER_RANDOM)
         return rt_sample_in_unit_disk(&s->rng);
-    s->dim = RT_SAMPLER_DIM_LENS;
-    return rt_warp_disk(rt_sampler_get2d(s));
+    s->dim = RT_SAMPLER_DIM_LENS + 2u;
+    return rt_warp_disk(rt_sampler_pair(s, RT_SAMPLER_DIM_LENS / 2u));
 }
 
 /* A uniform point inside the unit ball: a 2D direction and a 1D radius. */

@@ -38,6 +38,28 @@ static void check_sobol1(void)
     CHECK(same);
 }
 
+/* The points by table are the definition's (rt_sampler_point_of): pair 0
+ * (rt_sampler_pair0) from the index, and any pair (rt_sampler_point) from
+ * its first coordinate, for every number below 2^16 and for numbers with
+ * all four bytes set. */
+static void check_tables(void)
+{
+    uint32_t bad0 = 0, bad = 0, first0 = 0, first = 0;
+    rt_rng r = rt_rng_for_stream(5, RT_STREAM_TEST);
+    for (uint32_t k = 0; k < (1u << 17); k++) {
+        const uint32_t i = k < (1u << 16) ? k : (uint32_t)rt_rng_next(&r);
+        const uint64_t shift = rt_rng_next(&r);
+        if (rt_sampler_pair0(i) != rt_sampler_point_of(rt_sampler_reverse(i), 0) && !bad0++)
+            first0 = i;
+        if (rt_sampler_point(i, shift) != rt_sampler_point_of(i, shift) && !bad++)
+            first = i;
+    }
+    printf("by table: pair 0 differs for %u of 2^17 indices (first: %#x), a point for %u of 2^17 "
+           "coordinates (first: %#x)\n", bad0, first0, bad, first);
+    CHECK_EQ_INT(bad0, 0);
+    CHECK_EQ_INT(bad, 0);
+}
+
 /* Coordinate c of pair `pair` of sample i of the pixel with key key. */
 static uint32_t sobol_u32(uint64_t key, uint32_t i, uint32_t pair, int c)
 {
@@ -204,6 +226,7 @@ int main(void)
 {
     check_interface();
     check_sobol1();
+    check_tables();
     check_stratification();
     check_across_pixels();
     check_within_pixel();
