@@ -21,7 +21,7 @@ static int answer(const rt_run *run, rt_cli_action action)
         fputs(rt_cli_usage(), stdout);
     if (action == RT_CLI_VERSION) {
         char features[96];
-        rt_report_features(features, sizeof features);
+        rt_report_features(features, sizeof features, rt_farm_mpi_version());
         printf("rt-mpi %s (sampling version %u)\nfeatures: %s\nMPI library: %s\n", RT_VERSION,
                RT_RENDER_SAMPLING, features, rt_farm_mpi_version());
     }

@@ -139,7 +139,7 @@ int main(void)
         CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(doc, "mpi")));
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(doc, "setup_seconds")->valuedouble, 0.125, 0);
         char features[96];
-        rt_report_features(features, sizeof features);
+        rt_report_features(features, sizeof features, "Test MPI 1.0");
         const cJSON *f = cJSON_GetObjectItemCaseSensitive(doc, "features");
         char joined[96] = "";
         for (int i = 0; i < cJSON_GetArraySize(f); i++)
