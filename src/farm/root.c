@@ -277,7 +277,7 @@ void rt_root_bounds(rt_root *R, rt_unit *bounds, uint32_t *max_ids, size_t *ch)
 {
     /* the schedule's shape does not change after rt_assembly_init */
     const rt_sched *sc = &R->as.sched;
-    *bounds = (rt_unit){0, 0, sc->height, 0, sc->samples, 0, sc->width};
+    *bounds = (rt_unit){.y1 = sc->height, .s1 = sc->samples, .x1 = sc->width};
     *max_ids = sc->n_units;
     *ch = R->as.row / sc->width;
 }

@@ -388,7 +388,7 @@ void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_resul
     double cpu0 = thread_cpu(), now = rt_now();
     s.next_flush = now + job->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)
-        s.peers[r] = (peer){1, now, 0, 0, 0, 0};
+        s.peers[r] = (peer){.alive = 1, .heard = now};
     int idle = 0;
     for (;;) {
         if (RT_FARM_STOPPED()) {
