@@ -88,7 +88,7 @@ int main(int argc, char **argv)
 
     /* 5. The render, across every rank (a failure or signal ends the job
      * inside it). */
-    rt_farm_render(&run.farm, &run.job, &run.res);
+    rt_farm_render(&run.farm, &run.job, run.root ? &run.own : NULL, &run.res);
     rt_mem_settle(&run.fb);
 
     /* 6. Rank 0: image file, summary, reports. */

@@ -38,10 +38,10 @@ double rt_farm_unit_start(double taken, double *last, double end);
  * values. */
 typedef struct rt_root rt_root;
 
-/* The state of job's render on `ranks` ranks, its clock starting at t0;
+/* The state of job's render on `ranks` ranks (own: rank 0's part), its clock starting at t0;
  * NULL with *status set when the units cannot be planned. Free with
  * rt_root_free. */
-rt_root *rt_root_new(const rt_farm_job *job, int ranks, double t0, int *status);
+rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks, double t0, int *status);
 void rt_root_free(rt_root *R);
 /* Units in the schedule. */
 uint32_t rt_root_units(const rt_root *R);
@@ -88,7 +88,8 @@ void rt_root_host(rt_root *R, int rank, const char *host);
 /* server.c: rank 0's main thread hands out units and takes in results
  * until every rank is done (returns early on a signal). It moves messages
  * and calls root.c's verbs; rank0.c calls it, so the arrows point one way. */
-void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_result *res);
+void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_root *R,
+                   rt_farm_result *res);
 /* worker.c: a rank other than 0 renders the units rank 0 sends. */
 void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
 #endif

@@ -18,11 +18,11 @@
 #include "status.h"
 
 /* A signal arrived: save what is complete and end the job. */
-static void interrupted(const rt_farm *f, const rt_farm_job *job, rt_root *R)
+static void interrupted(const rt_farm *f, const rt_farm_rank0 *own, rt_root *R)
 {
     int sig = RT_FARM_STOPPED();
     int saved = rt_root_save_now(R);
-    const rt_farm_hooks *h = &job->hooks;
+    const rt_farm_hooks *h = &own->hooks;
     if (h->stopped) {
         uint32_t done, rows;
         rt_root_rows(R, &done, &rows);
@@ -76,10 +76,10 @@ static void *local_loop(void *arg)
     return NULL;
 }
 
-static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, double t0)
+static void run_root(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_farm_result *res, double t0)
 {
     int st;
-    rt_root *R = rt_root_new(job, f->size, t0, &st);
+    rt_root *R = rt_root_new(job, own, f->size, t0, &st);
     if (!R)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot plan the work units: %s", rt_status_str(st));
     res->units = rt_root_units(R);
@@ -92,13 +92,13 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
         int render = !job->root_serves_only;
         if (render && pthread_create(&th, NULL, local_loop, &L) != 0)
             rt_farm_fail(f, RT_EXIT_RUNTIME, "cannot start the render thread on rank 0");
-        rt_farm_serve(f, job, R, res);
+        rt_farm_serve(f, job, own, R, res);
         if (render)
             pthread_join(th, NULL);
     }
 #endif
     if (RT_FARM_STOPPED())
-        interrupted(f, job, R);
+        interrupted(f, own, R);
     int complete;
     if ((st = rt_root_error(R, &complete)) != RT_OK)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));
@@ -107,7 +107,7 @@ static void run_root(rt_farm *f, const rt_farm_job *job, rt_farm_result *res, do
     rt_root_free(R);
 }
 
-void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
+void rt_farm_render(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_farm_result *res)
 {
     memset(res, 0, sizeof *res);
     rt_farm_signals_install();
@@ -117,7 +117,7 @@ void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res)
 #endif
     double t0 = rt_now();
     if (f->rank == 0) {
-        run_root(f, job, res, t0);
+        run_root(f, job, own, res, t0);
         return;
     }
 #ifdef RT_HAVE_MPI

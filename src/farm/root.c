@@ -15,11 +15,11 @@
 #include "msg.h"
 #include "status.h"
 
-/* Everything here is guarded by mu, but job, t0 and the schedule's shape,
+/* Everything here is guarded by mu, but own, t0 and the schedule's shape,
  * which do not change after rt_root_new. */
 struct rt_root {
     pthread_mutex_t mu;
-    const rt_farm_job *job;
+    const rt_farm_rank0 *own; /* its image and hooks */
     rt_assembly as;
     rt_ledger led;
     double t0;          /* the render's time origin */
@@ -28,7 +28,7 @@ struct rt_root {
     int error;          /* a status: rendering on rank 0 failed */
 };
 
-rt_root *rt_root_new(const rt_farm_job *job, int ranks, double t0, int *status)
+rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks, double t0, int *status)
 {
     rt_root *R = calloc(1, sizeof *R);
     if (!R) {
@@ -36,9 +36,9 @@ rt_root *rt_root_new(const rt_farm_job *job, int ranks, double t0, int *status)
         return NULL;
     }
     pthread_mutex_init(&R->mu, NULL);
-    R->job = job;
+    R->own = own;
     R->t0 = R->last_save = t0;
-    int st = rt_assembly_init(&R->as, &job->renderer->job, &job->sched, job->committed, job->acc, ranks, job->trace);
+    int st = rt_assembly_init(&R->as, &job->renderer->job, &job->sched, own->committed, own->acc, ranks, own->trace);
     if (!st && (st = rt_ledger_init(&R->led, &R->as.sched, ranks)) != RT_OK)
         rt_assembly_free(&R->as);
     if (st) {
@@ -147,7 +147,7 @@ static void release(rt_root *R, uint32_t *committed, int64_t *acc)
  * the last but one is still shown: a progressive run always shows one. */
 static void pass_hook(rt_root *R, uint32_t pass)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     if (pass >= R->as.sched.passes)
         pass = R->as.sched.passes - 1;
     if (!h->pass || pass == 0 || pass <= R->previewed)
@@ -166,7 +166,7 @@ static void pass_hook(rt_root *R, uint32_t pass)
  * whether the state is saved. */
 static int save_hook(rt_root *R, int force)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     if (!h->save)
         return 0;
     double now = rt_now();
@@ -195,7 +195,7 @@ static int save_hook(rt_root *R, int force)
 
 void rt_root_tick(rt_root *R)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     pthread_mutex_lock(&R->mu);
     uint64_t rows = R->as.sched.rows_done, segs = R->as.segments;
     uint32_t done = R->as.passes_done, passes = R->as.sched.passes;
