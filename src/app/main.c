@@ -21,7 +21,7 @@ static int answer(const rt_run *run, rt_cli_action action)
         fputs(rt_cli_usage(), stdout);
     if (action == RT_CLI_VERSION) {
         char features[96];
-        rt_report_features(features, sizeof features);
+        rt_report_features(features, sizeof features, rt_farm_mpi_version());
         printf("rt-mpi %s (sampling version %u)\nfeatures: %s\nMPI library: %s\n", RT_VERSION,
                RT_RENDER_SAMPLING, features, rt_farm_mpi_version());
     }
@@ -96,7 +96,7 @@ int main(int argc, char **argv)
 
     /* 5. The render, across every rank (a failure or signal ends the job
      * inside it). */
-    rt_farm_render(&run.farm, &run.job, &run.res);
+    rt_farm_render(&run.farm, &run.job, run.root ? &run.own : NULL, &run.res);
     rt_mem_settle(&run.fb);
 
     /* 6. Rank 0: image file, summary, reports. */

@@ -19,9 +19,9 @@
 #include <cJSON.h>
 #endif
 
-void rt_report_features(char *buf, size_t n)
+void rt_report_features(char *buf, size_t n, const char *mpi_library)
 {
-    snprintf(buf, n, "%sopenmp png%s%s%s%s", strcmp(rt_farm_mpi_version(), "none") ? "mpi " : "",
+    snprintf(buf, n, "%sopenmp png%s%s%s%s", strcmp(mpi_library, "none") ? "mpi " : "",
              RT_HAVE_EXR ? " exr" : "", RT_HAVE_CJSON ? " json" : "", RT_HAVE_JPEG ? " jpeg" : "",
 #ifdef RT_HAVE_EMBREE
              " embree"
@@ -123,7 +123,7 @@ static double usec(double seconds) { return round(seconds * 1e9) / 1e3; }
 static void add_origin(cJSON *o, const rt_report_origin *g, int *ok)
 {
     char features[96], when[32] = "";
-    rt_report_features(features, sizeof features);
+    rt_report_features(features, sizeof features, g->mpi_library);
     add_str(o, "version", RT_VERSION, ok);
     add_num(o, "sampling_version", RT_RENDER_SAMPLING, ok);
     cJSON *f = add(o, "features", cJSON_CreateArray(), ok);

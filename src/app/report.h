@@ -58,8 +58,9 @@ int rt_report_trace(const char *path, const rt_trace_event *ev, size_t n, int ra
 int rt_report_stats(const char *path, const rt_run_summary *s);
 
 /* The build's features, space-separated ("mpi openmp png exr json"), into
- * buf: what --version prints and --stats records. */
-void rt_report_features(char *buf, size_t n);
+ * buf: what --version prints and --stats records. mpi_library is
+ * rt_farm_mpi_version(): "none" in a build without MPI. */
+void rt_report_features(char *buf, size_t n, const char *mpi_library);
 
 /* A copy of s (malloc'd, NULL without memory) that is valid UTF-8: every
  * byte that is not part of a well-formed sequence (stray continuation

@@ -37,6 +37,7 @@ typedef struct rt_run {
     rt_renderer renderer;
     rt_ckpt_id ckpt;      /* the checkpoint's identity of this job */
     rt_farm_job job;
+    rt_farm_rank0 own;    /* rank 0: the framebuffer and hooks the farm gets */
     int64_t *acc;         /* rank 0: the framebuffer of sums */
     rt_mem_early fb;      /* its mapping, when it is mapped while the render starts */
     uint32_t *restored;   /* rank 0 on --resume: samples per row restored */

@@ -213,22 +213,24 @@ void rt_run_job(rt_run *run)
     job->flush_bytes = (size_t)o->flush_mb << 20;
     job->empty_units = o->empty_units;
     job->root_serves_only = o->serve_only;
-    job->trace = o->trace != NULL;
     if (!run->root)
         return;
     rt_run_ckpt_framebuffer(run);
-    job->acc = run->acc;
-    job->committed = run->restored;
+    rt_farm_rank0 *own = &run->own;
+    memset(own, 0, sizeof *own);
+    own->trace = o->trace != NULL;
+    own->acc = run->acc;
+    own->committed = run->restored;
     rt_progress_init(&run->progress, o->job.height, o->quiet);
     run->progress.base_rows = run->rows_restored;
     run->progress.passes = (int)o->passes;
     run->progress.pass = 1;
-    job->hooks = (rt_farm_hooks){.ctx = run, .progress = on_progress, .stopped = on_stopped};
+    own->hooks = (rt_farm_hooks){.ctx = run, .progress = on_progress, .stopped = on_stopped};
     if (o->passes > 1)
-        job->hooks.pass = on_pass;
+        own->hooks.pass = on_pass;
     if (o->checkpoint) {
-        job->hooks.save = rt_run_ckpt_save;
-        job->hooks.save_interval = o->checkpoint_interval;
+        own->hooks.save = rt_run_ckpt_save;
+        own->hooks.save_interval = o->checkpoint_interval;
     }
     if (o->quiet)
         return;

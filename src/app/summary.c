@@ -260,11 +260,30 @@ static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *
     char host[256];
     rt_sysinfo_hostname(host, sizeof host);
     const char *job_id = getenv("SLURM_JOB_ID");
-    rt_report_origin origin = {run->argc, run->argv, run->start, host, rt_farm_mpi_version(),
-                               job_id && *job_id ? job_id : NULL};
-    rt_run_summary sum = {&o->job, run->scene_hash, hash, o->output, rt_accel_name(o->accel), run->farm.size,
-                          run->threads, run->farm.mpi, res->units, run->rows_restored, res->wall,
-                          rt_now() - run->t_start, run->setup, res->segments, res->ranks, origin, res, spp};
+    rt_report_origin origin = {.argc = run->argc,
+                               .argv = run->argv,
+                               .start = run->start,
+                               .host = host,
+                               .mpi_library = rt_farm_mpi_version(),
+                               .slurm_job_id = job_id && *job_id ? job_id : NULL};
+    rt_run_summary sum = {.job = &o->job,
+                          .scene_hash = run->scene_hash,
+                          .image_hash = hash,
+                          .output = o->output,
+                          .intersector = rt_accel_name(o->accel),
+                          .ranks = run->farm.size,
+                          .threads = run->threads,
+                          .mpi = run->farm.mpi,
+                          .units = res->units,
+                          .rows_restored = run->rows_restored,
+                          .wall = res->wall,
+                          .total_wall = rt_now() - run->t_start,
+                          .setup = run->setup,
+                          .segments = res->segments,
+                          .per_rank = res->ranks,
+                          .origin = origin,
+                          .farm = res,
+                          .spp = spp};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));

@@ -118,7 +118,7 @@ static int keep_owned(rt_assembly *a, const rt_unit *u, int64_t *sums, uint32_t 
         free(sums);
         return RT_ENOMEM;
     }
-    a->pending[a->n_pending++] = (struct rt_pending){*u, sums, n_units, 0, NULL};
+    a->pending[a->n_pending++] = (struct rt_pending){.unit = *u, .sums = sums, .n_units = n_units};
     return RT_OK;
 }
 

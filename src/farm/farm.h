@@ -94,12 +94,16 @@ typedef struct rt_farm_job {
     double flush_interval;
     size_t flush_bytes;
     double lease;
-    /* rank 0 only: */
+} rt_farm_job;
+
+/* What only rank 0 has: the image it gathers into and what it calls while
+ * the sums come in. */
+typedef struct rt_farm_rank0 {
     int64_t *acc;              /* width*height*3 sums, preloaded on resume */
     const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
     int trace;                 /* record one event per unit */
     rt_farm_hooks hooks;
-} rt_farm_job;
+} rt_farm_rank0;
 
 typedef struct rt_farm_result {
     uint64_t segments;    /* all ranks */
@@ -156,11 +160,12 @@ int rt_farm_bind_threads(const rt_farm *f, int threads);
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
-/* Renders the whole image. Collective. Returns only when every sum is in
- * (res filled): a failure ends the job here with RT_EXIT_RUNTIME, and on
- * SIGTERM, SIGINT or SIGUSR1 rank 0 saves (hooks.save), calls hooks.stopped
- * and the job ends with RT_EXIT_INTERRUPTED; so there is no status to
- * return. */
-void rt_farm_render(rt_farm *f, const rt_farm_job *job, rt_farm_result *res);
+/* Renders the whole image. Collective: every rank gives the same job, rank
+ * 0 its own part too (the other ranks' own is not read: NULL). Returns
+ * only when every sum is in (res filled): a failure ends the job here with
+ * RT_EXIT_RUNTIME, and on SIGTERM, SIGINT or SIGUSR1 rank 0 saves
+ * (hooks.save), calls hooks.stopped and the job ends with
+ * RT_EXIT_INTERRUPTED; so there is no status to return. */
+void rt_farm_render(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_farm_result *res);
 
 #endif

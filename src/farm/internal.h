@@ -32,21 +32,29 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src);
  * the previous unit was done; it becomes end. */
 double rt_farm_unit_start(double taken, double *last, double end);
 
-/* root.c: rank 0's state, shared by its render thread and its main thread
- * (the server). Everything in it is guarded by mu; the server reads none
- * of it but through the rt_root_* verbs below, which take the lock. */
-typedef struct rt_root {
-    pthread_mutex_t mu;
-    const rt_farm_job *job;
-    rt_assembly as;
-    rt_ledger led;
-    double t0;        /* the render's time origin */
-    double last_save; /* when hooks.save last ran */
-    uint32_t previewed; /* the last pass hooks.pass was called for */
-    int serial;       /* no server: the render loop calls the hooks itself */
-    int error;        /* a status: rendering on rank 0 failed */
-} rt_root;
+/* root.c: rank 0's state (ledger, assembly, stats, error), shared by its
+ * render thread and its main thread (the server). Its fields are root.c's
+ * alone: every verb below takes the lock itself and takes and gives
+ * values. */
+typedef struct rt_root rt_root;
 
+/* The state of job's render on `ranks` ranks (own: rank 0's part), its clock starting at t0;
+ * NULL with *status set when the units cannot be planned. Free with
+ * rt_root_free. */
+rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks, double t0, int *status);
+void rt_root_free(rt_root *R);
+/* Units in the schedule. */
+uint32_t rt_root_units(const rt_root *R);
+/* Rows with every sample, and the image's rows. */
+void rt_root_rows(rt_root *R, uint32_t *done, uint32_t *rows);
+/* Rank 0 rendered unit u (sums, segs; start and end in seconds from t0).
+ * A failure is kept as the error (rt_root_error). */
+void rt_root_add(rt_root *R, const rt_unit *u, const int64_t *sums, uint64_t segs, double start, double end);
+/* Rank 0's rendering failed with status: it becomes the error. */
+void rt_root_fail(rt_root *R, int status);
+/* The render is over: the per-rank stats (rank 0's peak memory and host
+ * name filled in here), trace and segments move into res. */
+void rt_root_finish(rt_root *R, rt_farm_result *res);
 /* The next unit for rank (0 when none is left to hand out, or stopping). */
 int rt_root_take(rt_root *R, int rank, rt_unit *u);
 /* Main thread: saves now (hooks.save); whether it did. */
@@ -80,7 +88,8 @@ void rt_root_host(rt_root *R, int rank, const char *host);
 /* server.c: rank 0's main thread hands out units and takes in results
  * until every rank is done (returns early on a signal). It moves messages
  * and calls root.c's verbs; rank0.c calls it, so the arrows point one way. */
-void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_result *res);
+void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_root *R,
+                   rt_farm_result *res);
 /* worker.c: a rank other than 0 renders the units rank 0 sends. */
 void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double t0);
 #endif

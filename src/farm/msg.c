@@ -108,7 +108,12 @@ int rt_msg_piece_decode(const int64_t *m, size_t count, const rt_unit *bounds, u
           m[2] >= bounds->x0 && m[2] < m[3] && m[3] <= bounds->x1 && m[4] >= bounds->s0 && m[4] < m[5] &&
           m[5] <= bounds->s1))
         return RT_EFORMAT;
-    const rt_unit b = {0, (uint32_t)m[0], (uint32_t)m[1], (uint32_t)m[4], (uint32_t)m[5], (uint32_t)m[2], (uint32_t)m[3]};
+    const rt_unit b = {.y0 = (uint32_t)m[0],
+                       .y1 = (uint32_t)m[1],
+                       .x0 = (uint32_t)m[2],
+                       .x1 = (uint32_t)m[3],
+                       .s0 = (uint32_t)m[4],
+                       .s1 = (uint32_t)m[5]};
     const size_t len = RT_MSG_PIECE + (size_t)m[6] + piece_sums(b.y0, b.y1, b.x0, b.x1, ch);
     if (count < len)
         return RT_EFORMAT;

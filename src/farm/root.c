@@ -15,6 +15,94 @@
 #include "msg.h"
 #include "status.h"
 
+/* Everything here is guarded by mu, but own, t0 and the schedule's shape,
+ * which do not change after rt_root_new. */
+struct rt_root {
+    pthread_mutex_t mu;
+    const rt_farm_rank0 *own; /* its image and hooks */
+    rt_assembly as;
+    rt_ledger led;
+    double t0;          /* the render's time origin */
+    double last_save;   /* when hooks.save last ran */
+    uint32_t previewed; /* the last pass hooks.pass was called for */
+    int error;          /* a status: rendering on rank 0 failed */
+};
+
+rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks, double t0, int *status)
+{
+    rt_root *R = calloc(1, sizeof *R);
+    if (!R) {
+        *status = RT_ENOMEM;
+        return NULL;
+    }
+    pthread_mutex_init(&R->mu, NULL);
+    R->own = own;
+    R->t0 = R->last_save = t0;
+    int st = rt_assembly_init(&R->as, &job->renderer->job, &job->sched, own->committed, own->acc, ranks, own->trace);
+    if (!st && (st = rt_ledger_init(&R->led, &R->as.sched, ranks)) != RT_OK)
+        rt_assembly_free(&R->as);
+    if (st) {
+        pthread_mutex_destroy(&R->mu);
+        free(R);
+        *status = st;
+        return NULL;
+    }
+    *status = RT_OK;
+    return R;
+}
+
+void rt_root_free(rt_root *R)
+{
+    if (!R)
+        return;
+    rt_assembly_free(&R->as);
+    rt_ledger_free(&R->led);
+    pthread_mutex_destroy(&R->mu);
+    free(R);
+}
+
+uint32_t rt_root_units(const rt_root *R) { return R->as.sched.n_units; }
+
+void rt_root_rows(rt_root *R, uint32_t *done, uint32_t *rows)
+{
+    pthread_mutex_lock(&R->mu);
+    *done = R->as.sched.rows_done;
+    *rows = R->as.sched.height;
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_add(rt_root *R, const rt_unit *u, const int64_t *sums, uint64_t segs, double start, double end)
+{
+    pthread_mutex_lock(&R->mu);
+    int st = rt_ledger_done(&R->led, 0, u->id) && rt_ledger_in(&R->led, 0, u->id)
+                 ? rt_assembly_add(&R->as, 0, u, sums, segs, start, end)
+                 : RT_EINVAL;
+    if (st && !R->error)
+        R->error = st;
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_fail(rt_root *R, int status)
+{
+    pthread_mutex_lock(&R->mu);
+    R->error = status;
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_finish(rt_root *R, rt_farm_result *res)
+{
+    pthread_mutex_lock(&R->mu);
+    R->as.stats[0].maxrss_mb = rt_sysinfo_peak_mb();
+    rt_sysinfo_hostname(R->as.stats[0].host, sizeof R->as.stats[0].host);
+    res->ranks = R->as.stats;
+    res->segments = R->as.segments;
+    res->trace = R->as.trace;
+    res->n_trace = R->as.n_trace;
+    R->as.stats = NULL; /* the caller's now */
+    R->as.trace = NULL;
+    pthread_mutex_unlock(&R->mu);
+}
+
 int rt_root_take(rt_root *R, int rank, rt_unit *u)
 {
     pthread_mutex_lock(&R->mu);
@@ -59,7 +147,7 @@ static void release(rt_root *R, uint32_t *committed, int64_t *acc)
  * the last but one is still shown: a progressive run always shows one. */
 static void pass_hook(rt_root *R, uint32_t pass)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     if (pass >= R->as.sched.passes)
         pass = R->as.sched.passes - 1;
     if (!h->pass || pass == 0 || pass <= R->previewed)
@@ -78,7 +166,7 @@ static void pass_hook(rt_root *R, uint32_t pass)
  * whether the state is saved. */
 static int save_hook(rt_root *R, int force)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     if (!h->save)
         return 0;
     double now = rt_now();
@@ -107,7 +195,7 @@ static int save_hook(rt_root *R, int force)
 
 void rt_root_tick(rt_root *R)
 {
-    const rt_farm_hooks *h = &R->job->hooks;
+    const rt_farm_hooks *h = &R->own->hooks;
     pthread_mutex_lock(&R->mu);
     uint64_t rows = R->as.sched.rows_done, segs = R->as.segments;
     uint32_t done = R->as.passes_done, passes = R->as.sched.passes;
@@ -189,7 +277,7 @@ void rt_root_bounds(rt_root *R, rt_unit *bounds, uint32_t *max_ids, size_t *ch)
 {
     /* the schedule's shape does not change after rt_assembly_init */
     const rt_sched *sc = &R->as.sched;
-    *bounds = (rt_unit){0, 0, sc->height, 0, sc->samples, 0, sc->width};
+    *bounds = (rt_unit){.y1 = sc->height, .s1 = sc->samples, .x1 = sc->width};
     *max_ids = sc->n_units;
     *ch = R->as.row / sc->width;
 }

@@ -49,6 +49,7 @@ typedef struct outgoing {
 typedef struct server {
     rt_farm *f;
     const rt_farm_job *job;
+    const rt_farm_rank0 *own;
     rt_root *R;
     rt_farm_result *res;
     peer *peers;
@@ -355,7 +356,7 @@ static void stop_workers(server *s)
 /* Progressive passes and checkpoints want the sums the workers hold. */
 static void ask_when_due(server *s)
 {
-    const rt_farm_hooks *h = &s->job->hooks;
+    const rt_farm_hooks *h = &s->own->hooks;
     int pass_done = rt_root_pass_done(s->R, s->pass_asked);
     double now = rt_now();
     int ckpt = h->save && now >= s->next_flush;
@@ -376,19 +377,20 @@ static double thread_cpu(void)
            1e-6 * ru.ru_stime.tv_usec;
 }
 
-void rt_farm_serve(rt_farm *f, const rt_farm_job *job, rt_root *R, rt_farm_result *res)
+void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_root *R,
+                   rt_farm_result *res)
 {
     server s;
     memset(&s, 0, sizeof s);
-    s.f = f, s.job = job, s.R = R, s.res = res;
+    s.f = f, s.job = job, s.own = own, s.R = R, s.res = res;
     s.peers = calloc((size_t)f->size, sizeof(peer));
     if (!s.peers)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     s.lease = job->lease > 0 ? job->lease : RT_POLICY_LEASE;
     double cpu0 = thread_cpu(), now = rt_now();
-    s.next_flush = now + job->hooks.save_interval / 2;
+    s.next_flush = now + own->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)
-        s.peers[r] = (peer){1, now, 0, 0, 0, 0};
+        s.peers[r] = (peer){.alive = 1, .heard = now};
     int idle = 0;
     for (;;) {
         if (RT_FARM_STOPPED()) {

@@ -51,4 +51,4 @@ static int write_bmp(const char *path, const void *px, uint32_t width, uint32_t 
     return bmp_write(path, px, width, height);
 }
 
-const rt_format rt_format_bmp = {RT_FORMAT_BMP, ".bmp", 0, 0, write_bmp};
+const rt_format rt_format_bmp = {.id = RT_FORMAT_BMP, .ext = ".bmp", .write = write_bmp};

@@ -134,4 +134,4 @@ static int write_exr(const char *path, const void *px, uint32_t width, uint32_t 
     return exr_write(path, px, width, height, o);
 }
 
-const rt_format rt_format_exr = {RT_FORMAT_EXR, ".exr", 1, 0, write_exr};
+const rt_format rt_format_exr = {.id = RT_FORMAT_EXR, .ext = ".exr", .linear = 1, .write = write_exr};

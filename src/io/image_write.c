@@ -14,7 +14,7 @@
 #if !RT_HAVE_EXR
 /* Built without OpenEXR: the extension is still known, so that a .exr
  * output is refused as a missing feature rather than an unknown type. */
-static const rt_format exr_missing = {RT_FORMAT_EXR, ".exr", 1, 0, NULL};
+static const rt_format exr_missing = {.id = RT_FORMAT_EXR, .ext = ".exr", .linear = 1};
 #define rt_format_exr exr_missing
 #endif
 

@@ -39,4 +39,4 @@ static int write_pfm(const char *path, const void *px, uint32_t width, uint32_t 
     return pfm_write(path, px, width, height);
 }
 
-const rt_format rt_format_pfm = {RT_FORMAT_PFM, ".pfm", 1, 0, write_pfm};
+const rt_format rt_format_pfm = {.id = RT_FORMAT_PFM, .ext = ".pfm", .linear = 1, .write = write_pfm};

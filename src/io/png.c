@@ -76,4 +76,4 @@ static int write_png(const char *path, const void *px, uint32_t width, uint32_t 
     return rt_png_write(path, px, width, height, o->bit_depth, o->text, o->n_text);
 }
 
-const rt_format rt_format_png = {RT_FORMAT_PNG, ".png", 0, 1, write_png};
+const rt_format rt_format_png = {.id = RT_FORMAT_PNG, .ext = ".png", .deep = 1, .write = write_png};

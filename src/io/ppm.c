@@ -55,4 +55,4 @@ static int write_ppm(const char *path, const void *px, uint32_t width, uint32_t 
     return ppm_write(path, px, width, height, o->bit_depth == 16 ? 65535 : 255, o->ppm_ascii);
 }
 
-const rt_format rt_format_ppm = {RT_FORMAT_PPM, ".ppm", 0, 1, write_ppm};
+const rt_format rt_format_ppm = {.id = RT_FORMAT_PPM, .ext = ".ppm", .deep = 1, .write = write_ppm};

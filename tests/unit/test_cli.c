@@ -11,6 +11,7 @@
 #include "accel.h"
 #include "check.h"
 #include "cli.h"
+#include "exitcode.h"
 #include "status.h"
 
 static rt_options opt;
@@ -209,6 +210,37 @@ static void test_help_text(void)
     }
 }
 
+/* The help's line for one exit code at *at: its whole text, a line break
+ * going on at the items' column (27). *at moves past it when it is there. */
+static void check_exit_line(const char **at, int code, const char *text)
+{
+    char want[512];
+    size_t len = (size_t)snprintf(want, sizeof want, "  %-25d", code);
+    for (const char *t = text; *t && len + 30 < sizeof want; t++)
+        len += *t == '\n' ? (size_t)snprintf(want + len, sizeof want - len, "\n%27s", "")
+                           : (size_t)snprintf(want + len, sizeof want - len, "%c", *t);
+    snprintf(want + len, sizeof want - len, "\n");
+    int same = !strncmp(*at, want, strlen(want));
+    if (!same)
+        fprintf(stderr, "  exit status: want \"%s\"\n  got \"%.*s\"\n", want, (int)strlen(want), *at);
+    CHECK(same);
+    *at += same ? strlen(want) : strlen(*at);
+}
+
+static void test_help_exit_status(void)
+{
+    /* The help's last section is the exit-code table, every code in its
+     * order; nothing after it, so nothing was cut. */
+    const char *help = rt_cli_usage();
+    const char *at = strstr(help, "\nExit status:\n");
+    CHECK(at != NULL);
+    at = at ? at + strlen("\nExit status:\n") : "";
+#define RT_EXIT_CHECK(name, value, text) check_exit_line(&at, value, text);
+    RT_EXIT_CODES(RT_EXIT_CHECK)
+#undef RT_EXIT_CHECK
+    CHECK_EQ_INT((int)strlen(at), 0);
+}
+
 static void test_accel_env(void)
 {
     /* RT_ACCEL: a node's default among our BVH's variants; --accel wins. */
@@ -273,6 +305,7 @@ int main(void)
     test_scene_word();
     test_help_wins();
     test_help_text();
+    test_help_exit_status();
     test_accel_env();
     test_whole_numbers();
     test_output_paths();

@@ -24,8 +24,11 @@ int main(void)
     rt_held h;
     rt_held_init(&h, W, 3);
     int64_t s1[2 * W * 3], s2[2 * W * 3], s3[W * 3];
-    rt_unit a = {7, 10, 12, 0, 4, 0, W}, b = {8, 10, 12, 4, 9, 0, W}, c = {9, 12, 13, 0, 4, 0, W};
-    rt_unit gap = {10, 10, 12, 12, 16, 0, W}, part = {11, 11, 13, 9, 12, 0, W};
+    rt_unit a = {.id = 7, .y0 = 10, .y1 = 12, .s1 = 4, .x1 = W};
+    rt_unit b = {.id = 8, .y0 = 10, .y1 = 12, .s0 = 4, .s1 = 9, .x1 = W};
+    rt_unit c = {.id = 9, .y0 = 12, .y1 = 13, .s1 = 4, .x1 = W};
+    rt_unit gap = {.id = 10, .y0 = 10, .y1 = 12, .s0 = 12, .s1 = 16, .x1 = W};
+    rt_unit part = {.id = 11, .y0 = 11, .y1 = 13, .s0 = 9, .s1 = 12, .x1 = W};
     fill(&a, s1);
     fill(&b, s2);
     fill(&c, s3);
@@ -63,8 +66,10 @@ int main(void)
      * tiles by the schedule's ranges) and so does not fit; a whole-row
      * unit of row 3 overlaps both. */
     rt_held_init(&h, W, 3);
-    rt_unit l = {20, 3, 4, 0, 4, 0, 1}, r = {21, 3, 4, 0, 4, 1, W}, l2 = {22, 3, 4, 4, 8, 0, 1};
-    rt_unit row = {23, 3, 4, 4, 8, 0, W};
+    rt_unit l = {.id = 20, .y0 = 3, .y1 = 4, .s1 = 4, .x1 = 1};
+    rt_unit r = {.id = 21, .y0 = 3, .y1 = 4, .s1 = 4, .x0 = 1, .x1 = W};
+    rt_unit l2 = {.id = 22, .y0 = 3, .y1 = 4, .s0 = 4, .s1 = 8, .x1 = 1};
+    rt_unit row = {.id = 23, .y0 = 3, .y1 = 4, .s0 = 4, .s1 = 8, .x1 = W};
     fill(&l, s1);
     fill(&r, s2);
     CHECK_EQ_INT(rt_held_add(&h, &l, s1), RT_OK);

@@ -71,7 +71,7 @@ static void test_sums(void)
     int64_t *wire = malloc(len * sizeof *wire);
     int64_t *end = rt_msg_piece_encode(rt_msg_piece_encode(wire, &p[0], 2), &p[1], 2);
     CHECK_EQ_INT(end - wire, len);
-    const rt_unit bounds = {0, 0, 8, 0, 16, 0, 4};
+    const rt_unit bounds = {.y1 = 8, .s1 = 16, .x1 = 4};
     size_t at = 0;
     for (int i = 0; i < 2; i++) {
         rt_msg_piece pc;

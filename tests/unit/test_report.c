@@ -121,9 +121,27 @@ int main(void)
     rt_rank_stats ranks[2] = {{.units = 3, .rows = 1.5, .busy = 0.25}, {.units = 2, .rows = 0.5, .busy = 0.125}};
     rt_farm_result farm = {.msgs_in = 9, .bytes_in = (1ull << 53) + 1, .lost = 1};
     ranks[1].lost = 1, ranks[1].lost_at = 2.5, ranks[1].silent = 2.25, ranks[1].units_redone = 4, ranks[1].redone = 0.75;
-    rt_run_summary s = {&job, 0x0123456789abcdefull, 42, argv[2], "bvh", 2, 1, 1, 5, 0, 0.5, 0.75, 0.125,
-                        (1ull << 60) + 1, ranks,
-                        {argc, argv, 1700000000, "node\xFF" "1", "Test MPI 1.0", "4242"}, &farm, NULL};
+    rt_run_summary s = {.job = &job,
+                        .scene_hash = 0x0123456789abcdefull,
+                        .image_hash = 42,
+                        .output = argv[2],
+                        .intersector = "bvh",
+                        .ranks = 2,
+                        .threads = 1,
+                        .mpi = 1,
+                        .units = 5,
+                        .wall = 0.5,
+                        .total_wall = 0.75,
+                        .setup = 0.125,
+                        .segments = (1ull << 60) + 1,
+                        .per_rank = ranks,
+                        .origin = {.argc = argc,
+                                   .argv = argv,
+                                   .start = 1700000000,
+                                   .host = "node\xFF" "1",
+                                   .mpi_library = "Test MPI 1.0",
+                                   .slurm_job_id = "4242"},
+                        .farm = &farm};
     CHECK_EQ_INT(rt_report_stats(stats, &s), 0);
     cJSON *doc = load(stats);
     if (doc) {
@@ -139,7 +157,7 @@ int main(void)
         CHECK(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(doc, "mpi")));
         CHECK_NEAR(cJSON_GetObjectItemCaseSensitive(doc, "setup_seconds")->valuedouble, 0.125, 0);
         char features[96];
-        rt_report_features(features, sizeof features);
+        rt_report_features(features, sizeof features, "Test MPI 1.0");
         const cJSON *f = cJSON_GetObjectItemCaseSensitive(doc, "features");
         char joined[96] = "";
         for (int i = 0; i < cJSON_GetArraySize(f); i++)
