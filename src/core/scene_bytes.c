@@ -159,7 +159,8 @@ static void put_book2(writer *w, const rt_scene *s)
         put_u32(w, s->tex.images.items[i].width);
         put_u32(w, s->tex.images.items[i].height);
     }
-    memcpy(w->p, s->tex.texels, s->tex.n_texels);
+    if (s->tex.n_texels) /* no texels: texels may be NULL */
+        memcpy(w->p, s->tex.texels, s->tex.n_texels);
     w->p += s->tex.n_texels;
     for (uint32_t i = 0; i < s->tex.textures.n; i++) {
         const rt_texture *t = &s->tex.textures.items[i];

@@ -325,6 +325,7 @@ static void check_bytes(void)
         CHECK_EQ_INT(b1[8], 2); /* version 2 */
         CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1), RT_OK);
         CHECK_EQ_INT(rt_scene_serialize(&t, &b2, &n2), RT_OK);
+        rt_scene_free(&t);
         if (!(n1 == n2 && memcmp(b1, b2, n1) == 0)) {
             size_t k = 0;
             while (k < n1 && k < n2 && b1[k] == b2[k])
