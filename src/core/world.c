@@ -31,6 +31,7 @@ typedef struct wnode {
 struct rt_world {
     const rt_scene *s;
     quad_x *quads;
+    quad_x *hull; /* the media's boundary quads, prepared once */
     uint32_t nq, nitems; /* items: quads 0..nq-1, then the moving spheres */
     uint32_t *items;     /* leaf order */
     wnode *nodes;
@@ -205,9 +206,12 @@ int rt_world_build(rt_world **out, const rt_scene *s, int brute)
     box *bx = malloc(n * sizeof *bx);
     keyed *tmp = malloc(n * sizeof *tmp);
     box *rest = malloc(n * sizeof *rest);
-    int st = (w->quads && w->items && w->nodes && bx && tmp && rest) ? RT_OK : RT_ENOMEM;
+    w->hull = malloc((s->media.hull.n ? s->media.hull.n : 1) * sizeof *w->hull);
+    int st = (w->quads && w->hull && w->items && w->nodes && bx && tmp && rest) ? RT_OK : RT_ENOMEM;
     for (uint32_t i = 0; i < w->nq && !st; i++)
         w->quads[i] = quad_prep(&s->shapes.quads.items[i]);
+    for (uint32_t i = 0; i < s->media.hull.n && !st; i++)
+        w->hull[i] = quad_prep(&s->media.hull.items[i]);
     for (uint32_t i = 0; i < w->nitems && !st; i++) {
         w->items[i] = i;
         bx[i] = item_box(w, i);
@@ -230,6 +234,7 @@ void rt_world_free(rt_world *w)
     if (!w)
         return;
     free(w->quads);
+    free(w->hull);
     free(w->items);
     free(w->nodes);
     free(w);
@@ -237,7 +242,8 @@ void rt_world_free(rt_world *w)
 
 size_t rt_world_bytes(const rt_world *w)
 {
-    return sizeof *w + (size_t)w->nq * sizeof *w->quads + (size_t)w->nitems * (sizeof *w->items + 2 * sizeof(wnode));
+    return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
+           (size_t)w->nitems * (sizeof *w->items + 2 * sizeof(wnode));
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
@@ -355,12 +361,6 @@ int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double t
     return 1;
 }
 
-/* The whole line's crossings of quad q (any t): 1 and *t when it crosses. */
-static int quad_line(const quad_x *q, const rt_ray *ray, double *t)
-{
-    return quad_t(q, ray, -DBL_MAX, DBL_MAX, t);
-}
-
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1)
 {
     const rt_medium *m = &w->s->media.media.items[k];
@@ -378,8 +378,7 @@ int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, doubl
     /* a convex hull: the line enters at its first crossing, leaves at its last */
     double lo = DBL_MAX, hi = -DBL_MAX, t;
     for (uint32_t i = m->first; i < m->first + m->count; i++) {
-        const quad_x q = quad_prep(&w->s->media.hull.items[i]);
-        if (quad_line(&q, ray, &t)) {
+        if (quad_t(&w->hull[i], ray, -DBL_MAX, DBL_MAX, &t)) { /* the whole line's crossing */
             lo = fmin(lo, t);
             hi = fmax(hi, t);
         }
