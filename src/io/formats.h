@@ -26,9 +26,26 @@ typedef struct rt_format {
 
 extern const rt_format rt_format_png, rt_format_ppm, rt_format_bmp, rt_format_pfm, rt_format_exr;
 
-/* PNG with text chunks, 8 or 16 bits (tests call it directly). */
+/* A PNG's zlib level (0-9) and the row filters libpng may choose from
+ * (PNG_FILTER_NONE ... PNG_ALL_FILTERS of png.h, which are bits 3-7). */
+typedef struct rt_png_params {
+    int level;
+    int filters;
+} rt_png_params;
+
+/* What the program writes: zlib level 4 with libpng's adaptive choice among
+ * every filter. On a 1200x800 frame of the final scene it writes in about a
+ * third of the time of zlib's default level 6 for a file 2.4 % larger;
+ * levels 1-3 are not much faster and 10-16 % larger (tools/bench/bench_png,
+ * docs/PERFORMANCE.md). */
+#define RT_PNG_DEFAULT ((rt_png_params){.level = 4, .filters = 0xf8 /* PNG_ALL_FILTERS */})
+
+/* PNG with text chunks, 8 or 16 bits (tests call it directly), at
+ * RT_PNG_DEFAULT or at the given parameters (tools/bench/bench_png.c). */
 int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
                  const rt_text *text, int n_text);
+int rt_png_write_with(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
+                      const rt_text *text, int n_text, rt_png_params params);
 
 /* Writes n bytes or aborts f; returns the status. */
 int rt_format_put(rt_atomic_file *f, const void *p, size_t n);

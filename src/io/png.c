@@ -1,6 +1,6 @@
 /* png.c - PNG through libpng, 8 or 16 bits with text chunks; every libpng error
  * is caught (setjmp) and turned into a status, and a failed write leaves no
- * file behind. */
+ * file behind. zlib's level and the row filters: RT_PNG_DEFAULT (formats.h). */
 #include <errno.h>
 #include <png.h>
 #include <setjmp.h>
@@ -22,11 +22,12 @@ static void png_warn(png_structp png, png_const_charp msg)
     (void)msg;
 }
 
-int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
-                 const rt_text *text, int n_text)
+int rt_png_write_with(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
+                      const rt_text *text, int n_text, rt_png_params params)
 {
     if (!width || !height || (bit_depth != 8 && bit_depth != 16) || width > PNG_USER_WIDTH_MAX ||
-        height > PNG_USER_HEIGHT_MAX)
+        height > PNG_USER_HEIGHT_MAX || params.level < 0 || params.level > 9 || !(params.filters & PNG_ALL_FILTERS) ||
+        (params.filters & ~PNG_ALL_FILTERS))
         return RT_EINVAL;
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
@@ -50,6 +51,8 @@ int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t hei
         return full ? RT_ENOSPACE : RT_EPNG;
     }
     png_init_io(png, f.fp);
+    png_set_compression_level(png, params.level);
+    png_set_filter(png, PNG_FILTER_TYPE_BASE, params.filters);
     png_set_IHDR(png, info, width, height, bit_depth, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     for (int i = 0; i < n_text; i++) {
@@ -69,6 +72,12 @@ int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t hei
     png_destroy_write_struct(&png, &info);
     free(chunks);
     return rt_atomic_commit(&f);
+}
+
+int rt_png_write(const char *path, const void *rgb, uint32_t width, uint32_t height, int bit_depth,
+                 const rt_text *text, int n_text)
+{
+    return rt_png_write_with(path, rgb, width, height, bit_depth, text, n_text, RT_PNG_DEFAULT);
 }
 
 static int write_png(const char *path, const void *px, uint32_t width, uint32_t height, const rt_image_write_opts *o)

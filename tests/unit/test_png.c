@@ -85,6 +85,27 @@ int main(void)
     CHECK_EQ_INT(rt_png_write(path, rgb, 0, H, 8, NULL, 0), RT_EINVAL);
     stat(path, &after);
     CHECK_EQ_INT(after.st_size, before.st_size);
+    /* The zlib level and filters reach libpng: level 0 stores the rows
+     * (a file larger than the pixels), level 9 compresses this periodic
+     * image; the program's setting is what rt_png_write writes, and its
+     * filters are png.h's PNG_ALL_FILTERS (formats.h spells the value). */
+    CHECK_EQ_INT(RT_PNG_DEFAULT.filters, PNG_ALL_FILTERS);
+    long sizes[3];
+    const rt_png_params levels[3] = {{.level = 0, .filters = PNG_FILTER_NONE},
+                                     {.level = 9, .filters = PNG_ALL_FILTERS}, RT_PNG_DEFAULT};
+    for (int k = 0; k < 3; k++) {
+        CHECK_EQ_INT(rt_png_write_with(p16, rgb, W, H, 8, NULL, 0, levels[k]), RT_OK);
+        stat(p16, &after);
+        sizes[k] = (long)after.st_size;
+    }
+    CHECK(sizes[0] > (long)(W * H * 3));
+    CHECK(sizes[1] < (long)(W * H * 3) / 2);
+    CHECK_EQ_INT(rt_png_write(p16, rgb, W, H, 8, NULL, 0), RT_OK);
+    stat(p16, &after);
+    CHECK_EQ_INT(after.st_size, sizes[2]);
+    CHECK_EQ_INT(rt_png_write_with(p16, rgb, W, H, 8, NULL, 0, (rt_png_params){.level = 10, .filters = PNG_ALL_FILTERS}),
+                 RT_EINVAL);
+    CHECK_EQ_INT(rt_png_write_with(p16, rgb, W, H, 8, NULL, 0, (rt_png_params){.level = 4, .filters = 0}), RT_EINVAL);
     /* No temporary files left behind. */
     char cmd[512];
     snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
