@@ -35,6 +35,25 @@ int rt_camera_init(rt_camera *cam, const rt_camera_desc *d, double aspect)
     return RT_OK;
 }
 
+int rt_camera_orbit(rt_camera_desc *d, uint32_t frame, double degrees, uint32_t frames)
+{
+    const double len = rt_v3_len(d->vup);
+    if (!frames || !isfinite(degrees) || !(len > 0))
+        return RT_EINVAL;
+    double turns = (double)frame * degrees / (360.0 * (double)frames);
+    turns -= floor(turns); /* [0, 1]: exact */
+    const uint32_t q = (uint32_t)(uint64_t)(turns * 4294967296.0);
+    if (q == 0)
+        return RT_OK; /* whole turns: the scene's own camera, to the bit */
+    double c, s;
+    rt_sample_cos_sin_turn(q, &c, &s);
+    const rt_vec3 k = rt_v3_scale(d->vup, 1.0 / len), v = rt_v3_sub(d->lookfrom, d->lookat);
+    const rt_vec3 turned = rt_v3_add(rt_v3_add(rt_v3_scale(v, c), rt_v3_scale(rt_v3_cross(k, v), s)),
+                                     rt_v3_scale(k, rt_v3_dot(k, v) * (1.0 - c)));
+    d->lookfrom = rt_v3_add(d->lookat, turned);
+    return RT_OK;
+}
+
 rt_ray rt_camera_ray_lens(const rt_camera *cam, double s, double t, double lx, double ly)
 {
     rt_vec3 offset = rt_v3(0, 0, 0);

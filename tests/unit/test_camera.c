@@ -1,5 +1,7 @@
 /* test_camera.c - camera rays: centre ray looks at lookat, corners span the
  * field of view, the lens keeps rays converging on the focus plane. */
+#include <string.h>
+
 #include "camera.h"
 #include "check.h"
 #include "status.h"
@@ -45,5 +47,37 @@ int main(void)
     bad = d;
     bad.vfov_deg = 180;
     CHECK_EQ_INT(rt_camera_init(&cam, &bad, 1.5), RT_EINVAL);
+    /* The turntable: 90 degrees about +y takes (13, 2, 3) to (3, 2, -13);
+     * the distance to lookat and the height along vup are kept; a whole
+     * turn gives the start back to the bit; frame 0 is the scene's camera. */
+    rt_camera_desc o = d;
+    o.lookat = rt_v3(1, 0, -1);
+    o.lookfrom = rt_v3(14, 2, 2);
+    o.vup = rt_v3(0, 2, 0); /* not unit */
+    CHECK_EQ_INT(rt_camera_orbit(&o, 1, 90.0, 1), RT_OK);
+    CHECK_NEAR(o.lookfrom.x, 4.0, 1e-12);
+    CHECK_NEAR(o.lookfrom.y, 2.0, 1e-12);
+    CHECK_NEAR(o.lookfrom.z, -14.0, 1e-12);
+    for (uint32_t f = 0; f < 48; f += 11) {
+        rt_camera_desc t = d;
+        CHECK_EQ_INT(rt_camera_orbit(&t, f, 360.0, 48), RT_OK);
+        rt_vec3 v = rt_v3_sub(t.lookfrom, t.lookat);
+        CHECK_NEAR(rt_v3_len(v), rt_v3_len(rt_v3_sub(d.lookfrom, d.lookat)), 1e-12);
+        CHECK_NEAR(v.y, 2.0, 1e-12);
+        double want_angle = f * 360.0 / 48 * 3.14159265358979323846 / 180;
+        CHECK_NEAR(remainder(atan2(-v.z, v.x) - atan2(-3.0, 13.0) - want_angle, 2 * 3.14159265358979323846), 0.0, 1e-8);
+    }
+    rt_camera_desc w = d;
+    w.lookat = rt_v3(0.1, 0.7, -0.3);
+    d.lookat = w.lookat;
+    CHECK_EQ_INT(rt_camera_orbit(&w, 48, 360.0, 48), RT_OK);
+    CHECK(memcmp(&w.lookfrom, &d.lookfrom, sizeof w.lookfrom) == 0);
+    w = d;
+    CHECK_EQ_INT(rt_camera_orbit(&w, 0, 30.0, 7), RT_OK);
+    CHECK(memcmp(&w.lookfrom, &d.lookfrom, sizeof w.lookfrom) == 0);
+    CHECK_EQ_INT(rt_camera_orbit(&w, 1, 30.0, 0), RT_EINVAL);
+    CHECK_EQ_INT(rt_camera_orbit(&w, 1, NAN, 1), RT_EINVAL);
+    w.vup = rt_v3(0, 0, 0);
+    CHECK_EQ_INT(rt_camera_orbit(&w, 1, 30.0, 1), RT_EINVAL);
     CHECK_DONE();
 }
