@@ -59,9 +59,8 @@ void rt_run_ckpt_framebuffer(const rt_options *o, const rt_farm *f, rt_run_root 
         r->samples_restored += r->restored[y];
 }
 
-int rt_run_ckpt_save(void *ctx, const uint32_t *committed, const int64_t *acc)
+int rt_run_ckpt_save(rt_farm_client *c, const uint32_t *committed, const int64_t *acc)
 {
-    rt_run_client *c = ctx;
     const char *path = c->opt->checkpoint;
     int st = rt_ckpt_write(path, &c->root->ckpt, committed, acc);
     if (st && !c->root->ckpt_warned)

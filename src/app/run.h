@@ -52,13 +52,13 @@ typedef struct rt_run_setup {
     rt_farm_job job;
 } rt_run_setup;
 
-/* What the farm's hooks get as their context: what they read of the run
- * and rank 0's own state they update. */
-typedef struct rt_run_client {
+/* The farm's hooks' context (farm.h declares it, opaque to the farm): what
+ * they read of the run and rank 0's own state they update. */
+struct rt_farm_client {
     const rt_options *opt;
     rt_layout lay;
     struct rt_run_root *root;
-} rt_run_client;
+};
 
 /* Rank 0's own: the image it gathers and what it does meanwhile. */
 typedef struct rt_run_root {
@@ -72,7 +72,7 @@ typedef struct rt_run_root {
     uint64_t samples_restored; /* sum over rows */
     rt_progress progress;
     rt_farm_rank0 own;    /* the framebuffer and hooks the farm gets */
-    rt_run_client client; /* the hooks' context */
+    rt_farm_client client; /* the hooks' context */
 } rt_run_root;
 
 /* What the run measures. */
@@ -117,7 +117,7 @@ int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
  * on --resume (r->ckpt set). Fails the job itself. */
 void rt_run_ckpt_framebuffer(const rt_options *o, const rt_farm *f, rt_run_root *r);
 /* The farm's save hook. */
-int rt_run_ckpt_save(void *ctx, const uint32_t *committed, const int64_t *acc);
+int rt_run_ckpt_save(rt_farm_client *c, const uint32_t *committed, const int64_t *acc);
 /* The whole render into the checkpoint (the image could not be written). */
 int rt_run_ckpt_keep_render(const rt_options *o, const rt_run_root *r);
 /* The image is written: remove the checkpoint, or keep it complete. */

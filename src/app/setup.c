@@ -140,18 +140,17 @@ void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup 
 
 /* ---- hooks: what rank 0 does while the sums come in ---------------------- */
 
-static void on_progress(void *ctx, uint32_t pass, uint64_t rows_done, uint64_t segments)
+static void on_progress(rt_farm_client *c, uint32_t pass, uint64_t rows_done, uint64_t segments)
 {
-    rt_run_client *c = ctx;
     c->root->progress.pass = (int)pass;
     rt_progress_update(&c->root->progress, rows_done, segments);
 }
 
 /* After each progressive pass: the preview, in the format (and bit depth)
  * its extension names, like the output. */
-static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
+static void on_pass(rt_farm_client *c, uint32_t pass, uint32_t samples, const uint32_t *committed,
+                    const int64_t *acc)
 {
-    const rt_run_client *c = ctx;
     const rt_options *o = c->opt;
     const char *path = o->preview ? o->preview : o->output;
     char info[64];
@@ -180,9 +179,8 @@ static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
 }
 
-static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows)
+static void on_stopped(rt_farm_client *c, int sig, int saved, uint32_t rows_done, uint32_t rows)
 {
-    const rt_run_client *c = ctx;
     const rt_progress *p = &c->root->progress;
     if (p->enabled && p->tty)
         fputc('\n', stderr);
@@ -227,11 +225,11 @@ void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run
     r->progress.base_rows = r->rows_restored;
     r->progress.passes = (int)o->passes;
     r->progress.pass = 1;
-    r->client = (rt_run_client){.opt = o, .lay = s->renderer.lay, .root = r};
+    r->client = (rt_farm_client){.opt = o, .lay = s->renderer.lay, .root = r};
     r->own = (rt_farm_rank0){.acc = r->acc,
                              .committed = r->restored,
                              .trace = o->trace != NULL,
-                             .hooks = {.ctx = &r->client, .progress = on_progress, .stopped = on_stopped}};
+                             .hooks = {.client = &r->client, .progress = on_progress, .stopped = on_stopped}};
     if (o->passes > 1)
         r->own.hooks.pass = on_pass;
     if (o->checkpoint) {

@@ -26,7 +26,7 @@ static void interrupted(const rt_farm *f, const rt_farm_rank0 *own, rt_root *R)
     if (h->stopped) {
         uint32_t done, rows;
         rt_root_rows(R, &done, &rows);
-        h->stopped(h->ctx, sig, saved, done, rows);
+        h->stopped(h->client, sig, saved, done, rows);
     }
     rt_farm_exit(f, RT_EXIT_INTERRUPTED);
 }
