@@ -93,7 +93,10 @@ static void write_image(const finish *F, const int64_t *colour)
          * this image only with a build of the same sampling version. */
         {"rt-mpi:sampling", sampling_s},
     };
-    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
+    rt_image_write_opts wo = {.bit_depth = o->bit_depth,
+                              .ppm_ascii = o->ppm_ascii,
+                              .text = text,
+                              .n_text = (int)(sizeof text / sizeof text[0])};
     int st = rt_image_write(o->output, colour, o->job.width, o->job.height, o->job.samples, &wo);
     if (st)
         fail_write(F, o->output, st);
@@ -128,7 +131,7 @@ static void write_extras(const finish *F)
         const char *name;
     } aovs[] = {{lay->albedo, "albedo"}, {lay->normal, "normal"}};
     rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}};
-    rt_image_write_opts wo = {8, 0, text, 1};
+    rt_image_write_opts wo = {.bit_depth = 8, .text = text, .n_text = 1};
     for (size_t k = 0; k < sizeof aovs / sizeof aovs[0]; k++) {
         if (!aovs[k].first)
             continue;
@@ -150,7 +153,7 @@ static void write_extras(const finish *F)
             rt_farm_fail(F->f, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
         for (size_t i = 0; i < npix; i++)
             v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = acc[i * lay->ch + lay->count] << RT_FIX_SHIFT;
-        rt_image_write_opts wm = {o->bit_depth, o->ppm_ascii, text, 1};
+        rt_image_write_opts wm = {.bit_depth = o->bit_depth, .ppm_ascii = o->ppm_ascii, .text = text, .n_text = 1};
         int st = rt_image_write(o->spp_map, v, o->job.width, o->job.height, o->job.samples, &wm);
         rt_mem_free(v, npix * 3 * sizeof *v);
         if (st)

@@ -67,7 +67,7 @@ static void *local_loop(void *arg)
     local *L = arg;
     uint32_t n = rt_root_units(L->R);
     L->taken = calloc(n ? n : 1, sizeof *L->taken);
-    rt_render_source src = {local_take, local_done, NULL, L};
+    rt_render_source src = {.take = local_take, .done = local_done, .ctx = L};
     int st = L->taken ? rt_farm_run_units(L->job, &src) : RT_ENOMEM;
     if (st)
         rt_root_fail(L->R, st);
