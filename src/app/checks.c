@@ -69,7 +69,7 @@ rt_exit_code rt_run_check(rt_run_cmd *cmd, rt_run_rank *rank, char *err, size_t 
         snprintf(cmd->ckpt_default, sizeof cmd->ckpt_default, "%s.ckpt", o->output);
         o->checkpoint = cmd->ckpt_default;
     }
-    int code = 0;
+    rt_exit_code code = RT_EXIT_OK;
     if (rank->root && rt_cli_check_output(o, err, errlen) != RT_OK)
         code = RT_EXIT_USAGE;
     if (!code && rank->root && check_memory(&o->job, err, errlen) != 0)

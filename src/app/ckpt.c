@@ -13,7 +13,7 @@
 
 /* The checkpoint: a writable path, there on --resume, not there otherwise
  * (a leftover would be clobbered, or silently ignored). */
-int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen)
+rt_exit_code rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen)
 {
     if (rt_cli_check_path("--checkpoint", o->checkpoint, err, errlen) != RT_OK)
         return RT_EXIT_USAGE;
@@ -27,7 +27,7 @@ int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen)
                  o->checkpoint);
         return RT_EXIT_CHECKPOINT;
     }
-    return 0;
+    return RT_EXIT_OK;
 }
 
 /* Rank 0 owns the framebuffer of sums; a resumed run starts from the

@@ -97,10 +97,10 @@ rt_exit_code rt_run_check(rt_run_cmd *cmd, rt_run_rank *rank, char *err, size_t 
 
 /* setup.c */
 /* --dump-scene: rank 0 writes the scene as JSON; an exit code. */
-int rt_run_dump_scene(const rt_options *o);
+rt_exit_code rt_run_dump_scene(const rt_options *o);
 /* Rank 0 builds (or loads) the scene and every rank receives it into s; an
  * exit code, err filled on rank 0. */
-int rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen);
+rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen);
 /* Every rank: intersector, camera, camera-ray lists. Fails the job itself. */
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
 /* Every rank: the farm's job (units, threads, the farm's policy). */
@@ -112,7 +112,7 @@ void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run
 /* ckpt.c: the checkpoint's life in a run. */
 /* Rank 0: a writable path, there on --resume and not there otherwise; an
  * exit code, err filled. */
-int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
+rt_exit_code rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
 /* Rank 0: the framebuffer of sums, the checkpoint's rows restored into it
  * on --resume (r->ckpt set). Fails the job itself. */
 void rt_run_ckpt_framebuffer(const rt_options *o, const rt_farm *f, rt_run_root *r);

@@ -20,7 +20,7 @@
 
 /* The earth texture of the named scenes that show it, read from
  * --texture-dir; an exit code (bad input: RT_EXIT_USAGE) with err set. */
-static int read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
+static rt_exit_code read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
 {
     const char *dir = o->texture_dir ? o->texture_dir : ".";
     char path[4096];
@@ -36,20 +36,20 @@ static int read_earth(const rt_options *o, rt_texture_image *img, char *err, siz
                  path, o->scene);
     else if (st)
         snprintf(err, errlen, "%s: %s", path, rt_status_str(st));
-    return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+    return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
 }
 
 /* The scene of this run, named or from a file; an exit code. */
-static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
+static rt_exit_code make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
 {
     if (o->scene_file) {
         int st = rt_scene_json_load(s, o->scene_file, err, errlen);
-        return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+        return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
     }
     const rt_scene_info *info = rt_scenes_find(o->scene);
     rt_texture_image earth = {0, 0, NULL};
     if (info && info->needs_earth) {
-        int code = read_earth(o, &earth, err, errlen);
+        rt_exit_code code = read_earth(o, &earth, err, errlen);
         if (code)
             return code;
     }
@@ -58,15 +58,15 @@ static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen
     rt_texture_image_free(&earth);
     if (st)
         snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
-    return st ? RT_EXIT_RUNTIME : 0;
+    return st ? RT_EXIT_RUNTIME : RT_EXIT_OK;
 }
 
-int rt_run_dump_scene(const rt_options *o)
+rt_exit_code rt_run_dump_scene(const rt_options *o)
 {
     char err[1024] = "";
     rt_scene s;
     rt_scene_init(&s);
-    int code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : 0;
+    rt_exit_code code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : RT_EXIT_OK;
     if (!code)
         code = make_scene(o, &s, err, sizeof err);
     if (!code) {
@@ -86,17 +86,17 @@ int rt_run_dump_scene(const rt_options *o)
     return code;
 }
 
-int rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen)
+rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen)
 {
     /* Built (or read and checked) on rank 0 before anything renders, so a
      * bad scene file is bad input like a bad option. */
     rt_scene built;
     rt_scene_init(&built);
-    int code = rank->root ? make_scene(o, &built, err, errlen) : 0;
+    int code = rank->root ? (int)make_scene(o, &built, err, errlen) : RT_EXIT_OK; /* an int to broadcast */
     rt_farm_bcast_int(&rank->farm, &code);
     if (code) {
         rt_scene_free(&built);
-        return code;
+        return (rt_exit_code)code;
     }
     /* Broadcast as bytes and rebuilt from those bytes on every rank, rank 0
      * included: every rank renders the very same scene. */
@@ -114,7 +114,7 @@ int rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, 
         rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
     s->scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, len);
     free(blob);
-    return 0;
+    return RT_EXIT_OK;
 }
 
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
