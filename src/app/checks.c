@@ -50,39 +50,38 @@ static int check_memory(const rt_job *j, char *err, size_t errlen)
 }
 
 /* Warnings that do not stop the run. */
-static void warn_placement(const rt_run *run)
+static void warn_placement(const rt_options *o, const rt_farm *f)
 {
-    const rt_farm *f = &run->farm;
     if (f->omp_bound && f->mask_share > 1)
         fprintf(stderr, "rt-mpi: warning: OMP_PROC_BIND is set and %d ranks of a node share the same CPUs: each binds "
                         "its threads from the first place on, onto the same cores (give each rank its own cores, e.g. "
                         "mpirun --map-by slot:PE=N, or unset OMP_PROC_BIND)\n",
                 f->mask_share);
-    if (run->opt.threads > f->cores)
+    if (o->threads > f->cores)
         fprintf(stderr, "rt-mpi: warning: -j %d is more than the %d cores available; threads will share cores\n",
-                run->opt.threads, f->cores);
+                o->threads, f->cores);
 }
 
-rt_exit_code rt_run_check(rt_run *run, char *err, size_t errlen)
+rt_exit_code rt_run_check(rt_run_cmd *cmd, rt_run_rank *rank, char *err, size_t errlen)
 {
-    rt_options *o = &run->opt;
+    rt_options *o = &cmd->opt;
     if (!o->no_checkpoint && !o->checkpoint) {
-        snprintf(run->ckpt_default, sizeof run->ckpt_default, "%s.ckpt", o->output);
-        o->checkpoint = run->ckpt_default;
+        snprintf(cmd->ckpt_default, sizeof cmd->ckpt_default, "%s.ckpt", o->output);
+        o->checkpoint = cmd->ckpt_default;
     }
-    int code = 0;
-    if (run->root && rt_cli_check_output(o, err, errlen) != RT_OK)
+    rt_exit_code code = RT_EXIT_OK;
+    if (rank->root && rt_cli_check_output(o, err, errlen) != RT_OK)
         code = RT_EXIT_USAGE;
-    if (!code && run->root && check_memory(&o->job, err, errlen) != 0)
+    if (!code && rank->root && check_memory(&o->job, err, errlen) != 0)
         code = RT_EXIT_USAGE;
-    if (!code && run->root && o->checkpoint)
+    if (!code && rank->root && o->checkpoint)
         code = rt_run_ckpt_check(o, err, errlen);
     if (!code) {
-        run->threads = pick_threads(&run->farm, o, err, errlen);
-        if (run->threads < 0)
+        rank->threads = pick_threads(&rank->farm, o, err, errlen);
+        if (rank->threads < 0)
             code = RT_EXIT_USAGE;
         else
-            run->bound = rt_farm_bind_threads(&run->farm, run->threads);
+            rank->bound = rt_farm_bind_threads(&rank->farm, rank->threads);
     }
 #ifndef RT_HAVE_EMBREE
     if (!code && o->accel == RT_ACCEL_EMBREE) {
@@ -90,7 +89,7 @@ rt_exit_code rt_run_check(rt_run *run, char *err, size_t errlen)
         code = RT_EXIT_USAGE;
     }
 #endif
-    if (!code && run->root)
-        warn_placement(run);
+    if (!code && rank->root)
+        warn_placement(o, &rank->farm);
     return code;
 }

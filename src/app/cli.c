@@ -553,7 +553,7 @@ static int check_image_path(const char *opt, const char *path, const rt_options 
     const char *base = slash ? slash + 1 : path;
     const char *dot = strrchr(base, '.');
     rt_image_format fmt = rt_image_format_from_path(path);
-    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, NULL, 0};
+    rt_image_write_opts wo = {.bit_depth = o->bit_depth, .ppm_ascii = o->ppm_ascii};
     if (*base && fmt == RT_FORMAT_UNKNOWN) {
         snprintf(err, errlen, "%s: unsupported file type '%s' (supported: %s)", opt, dot ? dot : base,
                  rt_image_format_list());

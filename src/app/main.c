@@ -13,9 +13,9 @@
 #include "scenes.h"
 
 /* --help, --version, --list-scenes: rank 0 answers, nothing renders. */
-static int answer(const rt_run *run, rt_cli_action action)
+static int answer(int root, rt_cli_action action)
 {
-    if (!run->root)
+    if (!root)
         return 0;
     if (action == RT_CLI_HELP)
         fputs(rt_cli_usage(), stdout);
@@ -41,10 +41,10 @@ static int answer(const rt_run *run, rt_cli_action action)
 /* Ends the run early with code, rank 0 printing err. */
 static int stop(rt_run *run, int code, const char *err)
 {
-    if (run->root && err[0])
+    if (run->rank.root && err[0])
         fprintf(stderr, "rt-mpi: error: %s\n", err);
     rt_run_free(run);
-    rt_farm_finalize(&run->farm);
+    rt_farm_finalize(&run->rank.farm);
     return code;
 }
 
@@ -52,55 +52,61 @@ int main(int argc, char **argv)
 {
     rt_run run;
     memset(&run, 0, sizeof run);
-    run.t_start = rt_now();
-    run.start = time(NULL);
-    run.argc = argc; /* before MPI_Init could touch them */
-    run.argv = argv;
-    rt_scene_init(&run.scene);
+    rt_run_cmd *cmd = &run.cmd;
+    rt_run_rank *rank = &run.rank;
+    rt_run_setup *setup = &run.setup;
+    cmd->t_start = rt_now();
+    cmd->start = time(NULL);
+    cmd->argc = argc; /* before MPI_Init could touch them */
+    cmd->argv = argv;
+    rt_scene_init(&setup->scene);
     char err[1024] = "";
 
     /* 1. Options: every rank parses the same command line. */
-    rt_cli_defaults(&run.opt);
-    rt_cli_action action = rt_cli_parse(argc, argv, &run.opt, err, sizeof err);
+    rt_cli_defaults(&cmd->opt);
+    rt_cli_action action = rt_cli_parse(argc, argv, &cmd->opt, err, sizeof err);
+    const rt_options *o = &cmd->opt;
 
     /* 2. MPI, when a launcher started this process. */
-    if (rt_farm_init(&run.farm, &argc, &argv) != 0) {
+    if (rt_farm_init(&rank->farm, &argc, &argv) != 0) {
         fprintf(stderr, "rt-mpi: error: MPI initialisation failed\n");
         return RT_EXIT_RUNTIME;
     }
-    run.root = run.farm.rank == 0;
+    rank->root = rank->farm.rank == 0;
     if (action == RT_CLI_DUMP_SCENE)
-        return stop(&run, run.root ? rt_run_dump_scene(&run.opt) : 0, "");
+        return stop(&run, rank->root ? rt_run_dump_scene(o) : 0, "");
     if (action == RT_CLI_HELP || action == RT_CLI_VERSION || action == RT_CLI_LIST_SCENES)
-        return stop(&run, answer(&run, action), "");
+        return stop(&run, answer(rank->root, action), "");
 
     /* 3. Checks before anything renders: rank 0 checks paths, memory and
      * checkpoint; every rank its threads. Then the scene: built on rank 0,
      * broadcast to all. A bad input ends every rank with one line. */
-    int code = action == RT_CLI_ERROR ? RT_EXIT_USAGE : rt_run_check(&run, err, sizeof err), root_code;
+    int code = action == RT_CLI_ERROR ? RT_EXIT_USAGE : rt_run_check(cmd, rank, err, sizeof err), root_code;
     int mine = code;
-    code = rt_farm_agree(&run.farm, code, &root_code);
+    code = rt_farm_agree(&rank->farm, code, &root_code);
     if (mine && !root_code && err[0]) /* this rank alone: its own line */
-        fprintf(stderr, "rt-mpi: error: rank %d: %s\n", run.farm.rank, err);
+        fprintf(stderr, "rt-mpi: error: rank %d: %s\n", rank->farm.rank, err);
     if (!code)
-        code = rt_run_scene(&run, err, sizeof err);
+        code = rt_run_scene(o, rank, setup, err, sizeof err);
     if (code)
         return stop(&run, code, err);
     const double t_scene = rt_now();
 
-    /* 4. Every rank builds the same renderer; rank 0 also the framebuffer,
-     * the restored checkpoint and the hooks. */
-    rt_run_renderer(&run);
-    rt_run_job(&run);
-    run.setup = rt_now() - t_scene;
+    /* 4. Every rank builds the same renderer and job; rank 0 also the
+     * framebuffer, the restored checkpoint and the hooks. */
+    rt_run_renderer(o, rank, setup);
+    rt_run_job(o, rank, setup);
+    if (rank->root)
+        rt_run_root_init(o, rank, setup, &run.root);
+    run.result.setup = rt_now() - t_scene;
 
     /* 5. The render, across every rank (a failure or signal ends the job
      * inside it). */
-    rt_farm_render(&run.farm, &run.job, run.root ? &run.own : NULL, &run.res);
-    rt_mem_settle(&run.fb);
+    rt_farm_render(&rank->farm, &setup->job, rank->root ? &run.root.own : NULL, &run.result.farm);
+    rt_mem_settle(&run.root.fb);
 
     /* 6. Rank 0: image file, summary, reports. */
-    if (run.root)
-        rt_run_finish(&run);
+    if (rank->root)
+        rt_run_finish(cmd, rank, setup, &run.root, &run.result);
     return stop(&run, 0, "");
 }

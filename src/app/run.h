@@ -19,73 +19,120 @@
 #include "render.h"
 #include "scene.h"
 
-typedef struct rt_run {
-    double t_start;
-    double setup;         /* seconds from the scene broadcast to the render's start */
-    time_t start;         /* wall-clock start, for the reports */
+/* A run in parts, so that each step takes only what it reads or fills. A
+ * run renders one frame today; what is per frame (rt_run_root, rt_run_result)
+ * is kept apart from what is per job (rt_run_cmd, rt_run_rank, rt_run_setup),
+ * so that a job of several frames can repeat the former over the latter. */
+
+/* What the command line says (and when it was given); read-only once
+ * rt_run_check has settled the checkpoint's default path. */
+typedef struct rt_run_cmd {
     int argc;             /* the command line as given, for the reports */
     char **argv;
+    double t_start;       /* rt_now() at the start, for the total wall time */
+    time_t start;         /* wall-clock start, for the reports */
     rt_options opt;
     char ckpt_default[4096]; /* OUTPUT.ckpt when --checkpoint is not given */
+} rt_run_cmd;
+
+/* This process in the farm: its rank and its threads. */
+typedef struct rt_run_rank {
     rt_farm farm;
     int root;             /* this is rank 0 */
     int threads, bound;   /* OpenMP threads of this rank; bound one to a CPU */
-    rt_scene scene;       /* as broadcast, on every rank */
+} rt_run_rank;
+
+/* What setup builds, the same on every rank. */
+typedef struct rt_run_setup {
+    rt_scene scene;       /* as broadcast */
     uint64_t scene_hash;  /* of the broadcast bytes */
     rt_accel *accel;
     rt_primary *primary;  /* camera-ray lists (our BVH only), or NULL */
     rt_renderer renderer;
-    rt_ckpt_id ckpt;      /* the checkpoint's identity of this job */
     rt_farm_job job;
-    rt_farm_rank0 own;    /* rank 0: the framebuffer and hooks the farm gets */
-    int64_t *acc;         /* rank 0: the framebuffer of sums */
+} rt_run_setup;
+
+/* The farm's hooks' context (farm.h declares it, opaque to the farm): what
+ * they read of the run and rank 0's own state they update. */
+struct rt_farm_client {
+    const rt_options *opt;
+    rt_layout lay;
+    struct rt_run_root *root;
+};
+
+/* Rank 0's own: the image it gathers and what it does meanwhile. */
+typedef struct rt_run_root {
+    rt_ckpt_id ckpt;      /* the checkpoint's identity of this image */
+    int ckpt_warned;      /* a failed checkpoint write was reported */
+    int64_t *acc;         /* the framebuffer of sums */
+    size_t acc_len;       /* its values */
     rt_mem_early fb;      /* its mapping, when it is mapped while the render starts */
-    uint32_t *restored;   /* rank 0 on --resume: samples per row restored */
+    uint32_t *restored;   /* on --resume: samples per row restored */
     uint32_t rows_restored;
     uint64_t samples_restored; /* sum over rows */
-    int ckpt_warned;      /* a failed checkpoint write was reported */
     rt_progress progress;
-    rt_farm_result res;
+    rt_farm_rank0 own;    /* the framebuffer and hooks the farm gets */
+    rt_farm_client client; /* the hooks' context */
+} rt_run_root;
+
+/* What the run measures. */
+typedef struct rt_run_result {
+    double setup;         /* seconds from the scene broadcast to the render's start */
+    rt_farm_result farm;
+} rt_run_result;
+
+/* The whole run, as main holds it. */
+typedef struct rt_run {
+    rt_run_cmd cmd;
+    rt_run_rank rank;
+    rt_run_setup setup;
+    rt_run_root root;
+    rt_run_result result;
 } rt_run;
 
 /* checks.c: rank 0 checks the file system and the machine, every rank its
- * thread count; a non-zero exit code with err filled, or RT_EXIT_OK. */
-rt_exit_code rt_run_check(rt_run *run, char *err, size_t errlen);
+ * thread count (rank gets threads and bound); cmd gets the checkpoint's
+ * default path. A non-zero exit code with err filled, or RT_EXIT_OK. */
+rt_exit_code rt_run_check(rt_run_cmd *cmd, rt_run_rank *rank, char *err, size_t errlen);
 
 /* setup.c */
 /* --dump-scene: rank 0 writes the scene as JSON; an exit code. */
-int rt_run_dump_scene(const rt_options *o);
-/* Rank 0 builds (or loads) the scene and every rank receives it; an exit
- * code, err filled on rank 0. */
-int rt_run_scene(rt_run *run, char *err, size_t errlen);
+rt_exit_code rt_run_dump_scene(const rt_options *o);
+/* Rank 0 builds (or loads) the scene and every rank receives it into s; an
+ * exit code, err filled on rank 0. */
+rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen);
 /* Every rank: intersector, camera, camera-ray lists. Fails the job itself. */
-void rt_run_renderer(rt_run *run);
-/* The farm's job: units, threads, framebuffer, restored checkpoint, hooks.
- * Fails the job itself. */
-void rt_run_job(rt_run *run);
+void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
+/* Every rank: the farm's job (units, threads, the farm's policy). */
+void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
+/* Rank 0: the framebuffer, the restored checkpoint, the progress line and
+ * the hooks; prints the run's first line. Fails the job itself. */
+void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r);
 
 /* ckpt.c: the checkpoint's life in a run. */
 /* Rank 0: a writable path, there on --resume and not there otherwise; an
  * exit code, err filled. */
-int rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
+rt_exit_code rt_run_ckpt_check(const rt_options *o, char *err, size_t errlen);
 /* Rank 0: the framebuffer of sums, the checkpoint's rows restored into it
- * on --resume. Fails the job itself. */
-void rt_run_ckpt_framebuffer(rt_run *run);
-/* The farm's save hook (ctx: the run). */
-int rt_run_ckpt_save(void *ctx, const uint32_t *committed, const int64_t *acc);
+ * on --resume (r->ckpt set). Fails the job itself. */
+void rt_run_ckpt_framebuffer(const rt_options *o, const rt_farm *f, rt_run_root *r);
+/* The farm's save hook. */
+int rt_run_ckpt_save(rt_farm_client *c, const uint32_t *committed, const int64_t *acc);
 /* The whole render into the checkpoint (the image could not be written). */
-int rt_run_ckpt_keep_render(const rt_run *run);
+int rt_run_ckpt_keep_render(const rt_options *o, const rt_run_root *r);
 /* The image is written: remove the checkpoint, or keep it complete. */
-void rt_run_ckpt_done(const rt_run *run);
+void rt_run_ckpt_done(const rt_options *o, const rt_run_root *r);
 
 /* summary.c: rank 0 after the render: the image file, the checkpoint
  * (removed or kept), the summary on stdout, --stats and --trace. */
-void rt_run_finish(rt_run *run);
+void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r,
+                   const rt_run_result *res);
 /* The three values at `first` of every pixel of acc (the colour 0, or an
- * AOV, run->renderer.lay) as 3 sums per pixel of the job's samples
- * (rt_image_extract); NULL when out of memory. Free with rt_mem_free. */
-int64_t *rt_run_values(const rt_run *run, const int64_t *acc, uint32_t first);
+ * AOV of lay) as 3 sums per pixel of the job's samples (rt_image_extract);
+ * NULL when out of memory. Free with rt_mem_free. */
+int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first);
 
+/* Frees what each part holds (parts never filled are zero). */
 void rt_run_free(rt_run *run);
 
 #endif

@@ -20,7 +20,7 @@
 
 /* The earth texture of the named scenes that show it, read from
  * --texture-dir; an exit code (bad input: RT_EXIT_USAGE) with err set. */
-static int read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
+static rt_exit_code read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
 {
     const char *dir = o->texture_dir ? o->texture_dir : ".";
     char path[4096];
@@ -36,20 +36,20 @@ static int read_earth(const rt_options *o, rt_texture_image *img, char *err, siz
                  path, o->scene);
     else if (st)
         snprintf(err, errlen, "%s: %s", path, rt_status_str(st));
-    return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+    return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
 }
 
 /* The scene of this run, named or from a file; an exit code. */
-static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
+static rt_exit_code make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
 {
     if (o->scene_file) {
         int st = rt_scene_json_load(s, o->scene_file, err, errlen);
-        return !st ? 0 : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
+        return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
     }
     const rt_scene_info *info = rt_scenes_find(o->scene);
     rt_texture_image earth = {0, 0, NULL};
     if (info && info->needs_earth) {
-        int code = read_earth(o, &earth, err, errlen);
+        rt_exit_code code = read_earth(o, &earth, err, errlen);
         if (code)
             return code;
     }
@@ -58,15 +58,15 @@ static int make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen
     rt_texture_image_free(&earth);
     if (st)
         snprintf(err, errlen, "building the scene: %s", rt_status_str(st));
-    return st ? RT_EXIT_RUNTIME : 0;
+    return st ? RT_EXIT_RUNTIME : RT_EXIT_OK;
 }
 
-int rt_run_dump_scene(const rt_options *o)
+rt_exit_code rt_run_dump_scene(const rt_options *o)
 {
     char err[1024] = "";
     rt_scene s;
     rt_scene_init(&s);
-    int code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : 0;
+    rt_exit_code code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : RT_EXIT_OK;
     if (!code)
         code = make_scene(o, &s, err, sizeof err);
     if (!code) {
@@ -86,93 +86,92 @@ int rt_run_dump_scene(const rt_options *o)
     return code;
 }
 
-int rt_run_scene(rt_run *run, char *err, size_t errlen)
+rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen)
 {
     /* Built (or read and checked) on rank 0 before anything renders, so a
      * bad scene file is bad input like a bad option. */
     rt_scene built;
     rt_scene_init(&built);
-    int code = run->root ? make_scene(&run->opt, &built, err, errlen) : 0;
-    rt_farm_bcast_int(&run->farm, &code);
+    int code = rank->root ? (int)make_scene(o, &built, err, errlen) : RT_EXIT_OK; /* an int to broadcast */
+    rt_farm_bcast_int(&rank->farm, &code);
     if (code) {
         rt_scene_free(&built);
-        return code;
+        return (rt_exit_code)code;
     }
     /* Broadcast as bytes and rebuilt from those bytes on every rank, rank 0
      * included: every rank renders the very same scene. */
     uint8_t *blob = NULL;
     size_t len = 0;
-    if (run->root) {
+    if (rank->root) {
         int st = rt_scene_serialize(&built, &blob, &len);
         if (st)
-            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "encoding the scene: %s", rt_status_str(st));
+            rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "encoding the scene: %s", rt_status_str(st));
         rt_scene_free(&built);
     }
-    rt_farm_bcast_bytes(&run->farm, &blob, &len);
-    int st = rt_scene_deserialize(&run->scene, blob, len);
+    rt_farm_bcast_bytes(&rank->farm, &blob, &len);
+    int st = rt_scene_deserialize(&s->scene, blob, len);
     if (st)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
-    run->scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, len);
+        rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
+    s->scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, len);
     free(blob);
-    return 0;
+    return RT_EXIT_OK;
 }
 
-void rt_run_renderer(rt_run *run)
+void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
 {
-    const rt_options *o = &run->opt;
-    int st = rt_accel_new(&run->accel, &run->scene, (rt_accel_kind)o->accel);
+    const rt_farm *f = &rank->farm;
+    int st = rt_accel_new(&s->accel, &s->scene, (rt_accel_kind)o->accel);
     if (st)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(o->accel),
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(o->accel),
                      rt_status_str(st));
-    st = rt_render_init(&run->renderer, &run->scene, run->accel, &o->job);
+    st = rt_render_init(&s->renderer, &s->scene, s->accel, &o->job);
     if (st)
-        rt_farm_fail(&run->farm, RT_EXIT_USAGE, "camera: %s", rt_status_str(st));
-    run->renderer.stop = rt_farm_stop_flag();
+        rt_farm_fail(f, RT_EXIT_USAGE, "camera: %s", rt_status_str(st));
+    s->renderer.stop = rt_farm_stop_flag();
     /* Our BVH also gets candidate lists for the camera rays (brute force and
      * Embree stay as they are: the oracle and the comparison). */
-    if (rt_accel_bvh(run->accel) && !run->renderer.world) { /* the book-2 loop makes its own camera rays */
-        st = rt_primary_build(&run->primary, &run->scene, &run->renderer.camera, o->job.width, o->job.height);
+    if (rt_accel_bvh(s->accel) && !s->renderer.world) { /* the book-2 loop makes its own camera rays */
+        st = rt_primary_build(&s->primary, &s->scene, &s->renderer.camera, o->job.width, o->job.height);
         if (st)
-            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
-        run->renderer.primary = run->primary;
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
+        s->renderer.primary = s->primary;
     }
 }
 
 /* ---- hooks: what rank 0 does while the sums come in ---------------------- */
 
-static void on_progress(void *ctx, uint32_t pass, uint64_t rows_done, uint64_t segments)
+static void on_progress(rt_farm_client *c, uint32_t pass, uint64_t rows_done, uint64_t segments)
 {
-    rt_run *run = ctx;
-    run->progress.pass = (int)pass;
-    rt_progress_update(&run->progress, rows_done, segments);
+    c->root->progress.pass = (int)pass;
+    rt_progress_update(&c->root->progress, rows_done, segments);
 }
 
 /* After each progressive pass: the preview, in the format (and bit depth)
  * its extension names, like the output. */
-static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc)
+static void on_pass(rt_farm_client *c, uint32_t pass, uint32_t samples, const uint32_t *committed,
+                    const int64_t *acc)
 {
-    const rt_options *o = &((rt_run *)ctx)->opt;
+    const rt_options *o = c->opt;
     const char *path = o->preview ? o->preview : o->output;
     char info[64];
     snprintf(info, sizeof info, "pass %u of %u, %u of %u spp", pass, o->passes, samples, o->job.samples);
     rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}, {"rt-mpi:preview", info}};
-    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, 2};
-    const rt_run *run = ctx;
+    rt_image_write_opts wo = {.bit_depth = o->bit_depth, .ppm_ascii = o->ppm_ascii, .text = text, .n_text = 2};
     const size_t n = (size_t)o->job.width * o->job.height * 3;
     int64_t *colour = (int64_t *)acc;
-    if (run->renderer.lay.ch != 3 && !(colour = rt_run_values(run, acc, 0))) {
+    if (c->lay.ch != 3 && !(colour = rt_run_values(&o->job, c->lay, acc, 0))) {
         fprintf(stderr, "rt-mpi: warning: no memory for preview %s\n", path);
         return;
     }
     /* with adaptive sampling each pixel's sums come scaled to -s samples
      * (rt_image_extract): a row with samples shows them as -s */
     uint32_t *rows = NULL;
-    if (run->renderer.lay.count && (rows = malloc(o->job.height * sizeof *rows)))
+    if (c->lay.count && (rows = malloc(o->job.height * sizeof *rows)))
         for (uint32_t y = 0; y < o->job.height; y++)
             rows[y] = committed[y] ? o->job.samples : 0;
-    int st = rows || !run->renderer.lay.count ? rt_image_write_rows(path, colour, o->job.width, o->job.height,
-                                                                     rows ? rows : committed, &wo)
-                                              : RT_ENOMEM;
+    int st = rows || !c->lay.count ? rt_image_write_rows(path, colour, o->job.width, o->job.height,
+                                                         rows ? rows : committed, &wo)
+                                   : RT_ENOMEM;
     free(rows);
     if (colour != acc)
         rt_mem_free(colour, n * sizeof *colour);
@@ -180,14 +179,14 @@ static void on_pass(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *
         fprintf(stderr, "rt-mpi: warning: cannot write preview %s: %s\n", path, rt_status_str(st));
 }
 
-static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows)
+static void on_stopped(rt_farm_client *c, int sig, int saved, uint32_t rows_done, uint32_t rows)
 {
-    rt_run *run = ctx;
-    if (run->progress.enabled && run->progress.tty)
+    const rt_progress *p = &c->root->progress;
+    if (p->enabled && p->tty)
         fputc('\n', stderr);
-    if (run->opt.checkpoint)
+    if (c->opt->checkpoint)
         fprintf(stderr, "rt-mpi: interrupted by signal %d: checkpoint %s %s %u of %u rows; rerun with --resume\n",
-                sig, run->opt.checkpoint, saved ? "holds" : "(not updated: see the warning above) was to hold",
+                sig, c->opt->checkpoint, saved ? "holds" : "(not updated: see the warning above) was to hold",
                 rows_done, rows);
     else
         fprintf(stderr, "rt-mpi: interrupted by signal %d (no checkpoint file)\n", sig);
@@ -196,48 +195,54 @@ static void on_stopped(void *ctx, int sig, int saved, uint32_t rows_done, uint32
 
 /* ---- the job ----------------------------------------------------------- */
 
-void rt_run_job(rt_run *run)
+void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
 {
-    const rt_options *o = &run->opt;
-    rt_farm_job *job = &run->job;
-    run->ckpt = (rt_ckpt_id){o->job, o->accel != RT_ACCEL_EMBREE, run->scene_hash, RT_RENDER_SAMPLING};
-    memset(job, 0, sizeof *job);
-    job->renderer = &run->renderer;
-    job->sched = (rt_sched_params){.band = o->band, .max_band = RT_POLICY_MAX_BAND, .ranks = (uint32_t)run->farm.size,
-                                   .units_per_rank = RT_POLICY_UNITS_PER_RANK, .min_samples = 1, .passes = o->passes,
-                                   .split = o->split};
-    job->threads = run->threads;
-    job->prefetch = (int)o->prefetch;
-    job->lease = o->lease;
-    job->flush_interval = o->flush_interval;
-    job->flush_bytes = (size_t)o->flush_mb << 20;
-    job->empty_units = o->empty_units;
-    job->root_serves_only = o->serve_only;
-    if (!run->root)
-        return;
-    rt_run_ckpt_framebuffer(run);
-    rt_farm_rank0 *own = &run->own;
-    memset(own, 0, sizeof *own);
-    own->trace = o->trace != NULL;
-    own->acc = run->acc;
-    own->committed = run->restored;
-    rt_progress_init(&run->progress, o->job.height, o->quiet);
-    run->progress.base_rows = run->rows_restored;
-    run->progress.passes = (int)o->passes;
-    run->progress.pass = 1;
-    own->hooks = (rt_farm_hooks){.ctx = run, .progress = on_progress, .stopped = on_stopped};
+    s->job = (rt_farm_job){.renderer = &s->renderer,
+                           .sched = {.band = o->band,
+                                     .max_band = RT_POLICY_MAX_BAND,
+                                     .ranks = (uint32_t)rank->farm.size,
+                                     .units_per_rank = RT_POLICY_UNITS_PER_RANK,
+                                     .min_samples = 1,
+                                     .passes = o->passes,
+                                     .split = o->split},
+                           .threads = rank->threads,
+                           .prefetch = (int)o->prefetch,
+                           .empty_units = o->empty_units,
+                           .root_serves_only = o->serve_only,
+                           .flush_interval = o->flush_interval,
+                           .flush_bytes = (size_t)o->flush_mb << 20,
+                           .lease = o->lease};
+}
+
+void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r)
+{
+    r->ckpt = (rt_ckpt_id){.job = o->job,
+                           .exact = o->accel != RT_ACCEL_EMBREE,
+                           .scene_hash = s->scene_hash,
+                           .sampling = RT_RENDER_SAMPLING};
+    rt_run_ckpt_framebuffer(o, &rank->farm, r);
+    rt_progress_init(&r->progress, o->job.height, o->quiet);
+    r->progress.base_rows = r->rows_restored;
+    r->progress.passes = (int)o->passes;
+    r->progress.pass = 1;
+    r->client = (rt_farm_client){.opt = o, .lay = s->renderer.lay, .root = r};
+    r->own = (rt_farm_rank0){.acc = r->acc,
+                             .committed = r->restored,
+                             .trace = o->trace != NULL,
+                             .hooks = {.client = &r->client, .progress = on_progress, .stopped = on_stopped}};
     if (o->passes > 1)
-        own->hooks.pass = on_pass;
+        r->own.hooks.pass = on_pass;
     if (o->checkpoint) {
-        own->hooks.save = rt_run_ckpt_save;
-        own->hooks.save_interval = o->checkpoint_interval;
+        r->own.hooks.save = rt_run_ckpt_save;
+        r->own.hooks.save_interval = o->checkpoint_interval;
     }
     if (o->quiet)
         return;
+    const int ranks = rank->farm.size, threads = rank->threads;
     fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
-            o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, run->scene.n_spheres,
-            run->farm.size, run->farm.size > 1 ? "s" : "", run->threads, run->threads > 1 ? "s" : "");
+            o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, s->scene.n_spheres, ranks,
+            ranks > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
     if (o->resume)
         fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", o->checkpoint,
-                100.0 * (double)run->samples_restored / ((double)o->job.height * o->job.samples));
+                100.0 * (double)r->samples_restored / ((double)o->job.height * o->job.samples));
 }

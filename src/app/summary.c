@@ -51,11 +51,23 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
              format);
 }
 
+/* The parts of the run that the steps after the render read. */
+typedef struct finish {
+    const rt_run_cmd *cmd;
+    const rt_options *o;
+    const rt_farm *f;
+    const rt_run_rank *rank;
+    const rt_run_setup *s;
+    const rt_run_root *r;
+    const rt_farm_result *res;
+    double setup; /* seconds (rt_run_result) */
+} finish;
+
 /* Writing an output failed: the sums go to the checkpoint. */
-static void fail_write(rt_run *run, const char *path, int st)
+static void fail_write(const finish *F, const char *path, int st)
 {
-    rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "writing %s: %s%s", path, rt_status_str(st),
-                 rt_run_ckpt_keep_render(run) == RT_OK ? " (the rendered image is saved in the checkpoint: "
+    rt_farm_fail(F->f, RT_EXIT_RUNTIME, "writing %s: %s%s", path, rt_status_str(st),
+                 rt_run_ckpt_keep_render(F->o, F->r) == RT_OK ? " (the rendered image is saved in the checkpoint: "
                                                          "free space and rerun with --resume)"
                                                        : "");
 }
@@ -64,9 +76,9 @@ static void fail_write(rt_run *run, const char *path, int st)
  * time, host or rank count, so that it stays byte-identical however it was
  * rendered. On failure the finished sums go to the checkpoint, so that a
  * resume only has to write the image. */
-static void write_image(rt_run *run, const int64_t *colour)
+static void write_image(const finish *F, const int64_t *colour)
 {
-    const rt_options *o = &run->opt;
+    const rt_options *o = F->o;
     char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
     snprintf(seed_s, sizeof seed_s, "%" PRIu64, o->job.seed);
     snprintf(sampling_s, sizeof sampling_s, "%u", RT_RENDER_SAMPLING);
@@ -81,19 +93,21 @@ static void write_image(rt_run *run, const int64_t *colour)
          * this image only with a build of the same sampling version. */
         {"rt-mpi:sampling", sampling_s},
     };
-    rt_image_write_opts wo = {o->bit_depth, o->ppm_ascii, text, (int)(sizeof text / sizeof text[0])};
+    rt_image_write_opts wo = {.bit_depth = o->bit_depth,
+                              .ppm_ascii = o->ppm_ascii,
+                              .text = text,
+                              .n_text = (int)(sizeof text / sizeof text[0])};
     int st = rt_image_write(o->output, colour, o->job.width, o->job.height, o->job.samples, &wo);
     if (st)
-        fail_write(run, o->output, st);
+        fail_write(F, o->output, st);
 }
 
-int64_t *rt_run_values(const rt_run *run, const int64_t *acc, uint32_t first)
+int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first)
 {
-    const rt_job *j = &run->opt.job;
     const size_t npix = (size_t)j->width * j->height;
     int64_t *out = rt_mem_zeroed(npix * 3 * sizeof *out);
     if (out)
-        rt_image_extract(acc, npix, run->renderer.lay, first, j->samples, out);
+        rt_image_extract(acc, npix, lay, first, j->samples, out);
     return out;
 }
 
@@ -107,42 +121,43 @@ static void aov_path(const char *output, const char *name, char *buf, size_t n)
 }
 
 /* The denoiser's buffers (--aov) and the samples-per-pixel map. */
-static void write_extras(rt_run *run)
+static void write_extras(const finish *F)
 {
-    const rt_options *o = &run->opt;
-    const rt_layout *lay = &run->renderer.lay;
+    const rt_options *o = F->o;
+    const rt_layout *lay = &F->s->renderer.lay;
+    const int64_t *acc = F->r->acc;
     const struct {
         uint32_t first;
         const char *name;
     } aovs[] = {{lay->albedo, "albedo"}, {lay->normal, "normal"}};
     rt_text text[] = {{"Software", "rt-mpi " RT_VERSION}};
-    rt_image_write_opts wo = {8, 0, text, 1};
+    rt_image_write_opts wo = {.bit_depth = 8, .text = text, .n_text = 1};
     for (size_t k = 0; k < sizeof aovs / sizeof aovs[0]; k++) {
         if (!aovs[k].first)
             continue;
         char path[4096];
         aov_path(o->output, aovs[k].name, path, sizeof path);
-        int64_t *v = rt_run_values(run, run->acc, aovs[k].first);
+        int64_t *v = rt_run_values(&o->job, *lay, acc, aovs[k].first);
         if (!v)
-            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the %s buffer", aovs[k].name);
+            rt_farm_fail(F->f, RT_EXIT_RUNTIME, "out of memory for the %s buffer", aovs[k].name);
         int st = rt_image_write(path, v, o->job.width, o->job.height, o->job.samples, &wo);
         rt_mem_free(v, (size_t)o->job.width * o->job.height * 3 * sizeof *v);
         if (st)
-            fail_write(run, path, st);
+            fail_write(F, path, st);
     }
     if (o->spp_map) {
         /* a pixel's samples as its value: count / samples once divided */
         const size_t npix = (size_t)o->job.width * o->job.height;
         int64_t *v = rt_mem_zeroed(npix * 3 * sizeof *v);
         if (!v)
-            rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
+            rt_farm_fail(F->f, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
         for (size_t i = 0; i < npix; i++)
-            v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = run->acc[i * lay->ch + lay->count] << RT_FIX_SHIFT;
-        rt_image_write_opts wm = {o->bit_depth, o->ppm_ascii, text, 1};
+            v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = acc[i * lay->ch + lay->count] << RT_FIX_SHIFT;
+        rt_image_write_opts wm = {.bit_depth = o->bit_depth, .ppm_ascii = o->ppm_ascii, .text = text, .n_text = 1};
         int st = rt_image_write(o->spp_map, v, o->job.width, o->job.height, o->job.samples, &wm);
         rt_mem_free(v, npix * 3 * sizeof *v);
         if (st)
-            fail_write(run, o->spp_map, st);
+            fail_write(F, o->spp_map, st);
     }
 }
 
@@ -175,28 +190,29 @@ static void print_spp(const rt_spp_stats *st, uint32_t samples, size_t npix)
     printf("\n");
 }
 
-static void print_intersector(const rt_run *run)
+static void print_intersector(const rt_options *o, const rt_run_setup *s)
 {
-    const char *box_test = rt_accel_box_test(run->accel);
-    printf("intersector:   %s (%s%s", rt_accel_name(run->opt.accel), box_test ? box_test : "",
+    const char *box_test = rt_accel_box_test(s->accel);
+    printf("intersector:   %s (%s%s", rt_accel_name(o->accel), box_test ? box_test : "",
            box_test ? " box test, " : "");
-    if (run->renderer.bvh_avx)
+    if (s->renderer.bvh_avx)
         printf("packets of %d rays, ", RT_RENDER_PACKET);
-    if (run->primary) {
+    if (s->primary) {
         uint32_t tiles, listed;
         size_t cand;
-        rt_primary_stats(run->primary, &tiles, &listed, &cand);
+        rt_primary_stats(s->primary, &tiles, &listed, &cand);
         printf("camera-ray lists on %u of %u tiles, ", listed, tiles);
     }
-    printf("%.0f KiB)\n", (rt_accel_bytes(run->accel) + rt_primary_bytes(run->primary)) / 1024.0);
+    printf("%.0f KiB)\n", (rt_accel_bytes(s->accel) + rt_primary_bytes(s->primary)) / 1024.0);
 }
 
-static void print_summary(const rt_run *run, uint64_t hash, const rt_spp_stats *spp)
+static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *spp)
 {
-    const rt_options *o = &run->opt;
+    const rt_options *o = F->o;
     const rt_job *j = &o->job;
-    const rt_farm_result *res = &run->res;
-    const int ranks = run->farm.size;
+    const rt_farm_result *res = F->res;
+    const rt_run_root *r = F->r;
+    const int ranks = F->f->size;
     printf("output:        %s\n", o->output);
     printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", j->width, j->height, j->samples,
            j->max_depth, j->seed);
@@ -206,18 +222,18 @@ static void print_summary(const rt_run *run, uint64_t hash, const rt_spp_stats *
         printf("scene:         final, grid %d", o->grid);
     else
         printf("scene:         %s", o->scene);
-    printf(", %u spheres, hash %016" PRIx64 "\n", run->scene.n_spheres, run->scene_hash);
-    print_intersector(run);
-    printf("ranks:         %d x %d threads%s, %u units", ranks, run->threads, run->bound ? " (one per CPU, bound)" : "",
-           res->units);
-    if (run->samples_restored)
+    printf(", %u spheres, hash %016" PRIx64 "\n", F->s->scene.n_spheres, F->s->scene_hash);
+    print_intersector(o, F->s);
+    printf("ranks:         %d x %d threads%s, %u units", ranks, F->rank->threads,
+           F->rank->bound ? " (one per CPU, bound)" : "", res->units);
+    if (r->samples_restored)
         printf(", %.1f%% of the samples restored from %s (%u complete rows)",
-               100.0 * (double)run->samples_restored / ((double)j->height * j->samples), o->checkpoint,
-               run->rows_restored);
+               100.0 * (double)r->samples_restored / ((double)j->height * j->samples), o->checkpoint,
+               r->rows_restored);
     printf("\n");
     if (spp)
         print_spp(spp, j->samples, (size_t)j->width * j->height);
-    printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - run->t_start);
+    printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - F->cmd->t_start);
     printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res->segments,
            res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
     double lo = res->ranks[0].maxrss_mb, hi = lo, held = 0;
@@ -253,32 +269,32 @@ static void print_summary(const rt_run *run, uint64_t hash, const rt_spp_stats *
     fflush(stdout);
 }
 
-static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *spp)
+static void write_reports(const finish *F, uint64_t hash, const rt_spp_stats *spp)
 {
-    const rt_options *o = &run->opt;
-    const rt_farm_result *res = &run->res;
+    const rt_options *o = F->o;
+    const rt_farm_result *res = F->res;
     char host[256];
     rt_sysinfo_hostname(host, sizeof host);
     const char *job_id = getenv("SLURM_JOB_ID");
-    rt_report_origin origin = {.argc = run->argc,
-                               .argv = run->argv,
-                               .start = run->start,
+    rt_report_origin origin = {.argc = F->cmd->argc,
+                               .argv = F->cmd->argv,
+                               .start = F->cmd->start,
                                .host = host,
                                .mpi_library = rt_farm_mpi_version(),
                                .slurm_job_id = job_id && *job_id ? job_id : NULL};
     rt_run_summary sum = {.job = &o->job,
-                          .scene_hash = run->scene_hash,
+                          .scene_hash = F->s->scene_hash,
                           .image_hash = hash,
                           .output = o->output,
                           .intersector = rt_accel_name(o->accel),
-                          .ranks = run->farm.size,
-                          .threads = run->threads,
-                          .mpi = run->farm.mpi,
+                          .ranks = F->f->size,
+                          .threads = F->rank->threads,
+                          .mpi = F->f->mpi,
                           .units = res->units,
-                          .rows_restored = run->rows_restored,
+                          .rows_restored = F->r->rows_restored,
                           .wall = res->wall,
-                          .total_wall = rt_now() - run->t_start,
-                          .setup = run->setup,
+                          .total_wall = rt_now() - F->cmd->t_start,
+                          .setup = F->setup,
                           .segments = res->segments,
                           .per_rank = res->ranks,
                           .origin = origin,
@@ -287,64 +303,68 @@ static void write_reports(const rt_run *run, uint64_t hash, const rt_spp_stats *
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));
-    if (o->trace && (st = rt_report_trace(o->trace, res->trace, res->n_trace, run->farm.size, &origin)) != RT_OK)
+    if (o->trace && (st = rt_report_trace(o->trace, res->trace, res->n_trace, F->f->size, &origin)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->trace, rt_status_str(st));
 }
 
 /* --done-file: the image is written (one line, atomically). A launcher
  * whose tasks died reports the job as failed even when the survivors
  * finished it (srun exits 137); the job script reads this instead. */
-static void write_done(const rt_run *run, uint64_t hash)
+static void write_done(const finish *F, uint64_t hash)
 {
-    const char *path = run->opt.done_file;
+    const char *path = F->o->done_file;
     if (!path)
         return;
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
     if (st == RT_OK) {
-        fprintf(f.fp, "done %016" PRIx64 " lost %d %s\n", hash, run->res.lost, run->opt.output);
+        fprintf(f.fp, "done %016" PRIx64 " lost %d %s\n", hash, F->res->lost, F->o->output);
         st = rt_atomic_commit(&f);
     }
     if (st)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", path, rt_status_str(st));
 }
 
-void rt_run_finish(rt_run *run)
+void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r,
+                   const rt_run_result *res)
 {
-    const rt_job *j = &run->opt.job;
+    const finish F = {.cmd = cmd, .o = &cmd->opt, .f = &rank->farm, .rank = rank, .s = s, .r = r,
+                      .res = &res->farm, .setup = res->setup};
+    const rt_job *j = &cmd->opt.job;
+    const rt_layout lay = s->renderer.lay;
     size_t npix = (size_t)j->width * j->height;
-    rt_progress_finish(&run->progress, run->res.segments);
+    rt_progress_finish(&r->progress, res->farm.segments);
     /* The image hash: of the 8-bit image, whatever the output format. */
     uint8_t *rgb = malloc(npix * 3);
     if (!rgb)
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the output image");
-    int64_t *colour = run->acc;
-    if (run->renderer.lay.ch != 3 && !(colour = rt_run_values(run, run->acc, 0)))
-        rt_farm_fail(&run->farm, RT_EXIT_RUNTIME, "out of memory for the output image");
+        rt_farm_fail(F.f, RT_EXIT_RUNTIME, "out of memory for the output image");
+    int64_t *colour = r->acc;
+    if (lay.ch != 3 && !(colour = rt_run_values(j, lay, r->acc, 0)))
+        rt_farm_fail(F.f, RT_EXIT_RUNTIME, "out of memory for the output image");
     rt_image_to_rgb8(colour, npix, j->samples, rgb);
     uint64_t hash = rt_image_hash(rgb, npix * 3);
     free(rgb);
-    write_image(run, colour);
-    if (colour != run->acc)
+    write_image(&F, colour);
+    if (colour != r->acc)
         rt_mem_free(colour, npix * 3 * sizeof *colour);
-    write_extras(run);
-    rt_run_ckpt_done(run);
+    write_extras(&F);
+    rt_run_ckpt_done(F.o, r);
     rt_spp_stats spp;
-    if (run->renderer.lay.count)
-        spp_tally(&spp, run->acc, npix, run->renderer.lay, j->samples);
-    print_summary(run, hash, run->renderer.lay.count ? &spp : NULL);
-    write_reports(run, hash, run->renderer.lay.count ? &spp : NULL);
-    write_done(run, hash);
+    if (lay.count)
+        spp_tally(&spp, r->acc, npix, lay, j->samples);
+    print_summary(&F, hash, lay.count ? &spp : NULL);
+    write_reports(&F, hash, lay.count ? &spp : NULL);
+    write_done(&F, hash);
 }
 
 void rt_run_free(rt_run *run)
 {
-    const rt_job *j = &run->opt.job;
-    rt_mem_free(run->acc, (size_t)j->width * j->height * rt_job_layout(j).ch * sizeof *run->acc);
-    free(run->restored);
-    free(run->res.ranks);
-    free(run->res.trace);
-    rt_primary_free(run->primary);
-    rt_accel_free(run->accel);
-    rt_scene_free(&run->scene);
+    rt_run_root *r = &run->root;
+    rt_mem_free(r->acc, r->acc_len * sizeof *r->acc);
+    free(r->restored);
+    free(run->result.farm.ranks);
+    free(run->result.farm.trace);
+    rt_primary_free(run->setup.primary);
+    rt_accel_free(run->setup.accel);
+    rt_scene_free(&run->setup.scene);
 }

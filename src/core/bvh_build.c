@@ -66,7 +66,7 @@ static double box_area(const box *b)
 static prim prim_of(const rt_scene *s, uint32_t index)
 {
     const rt_sphere *sp = &s->spheres[index];
-    prim p = {{sp->center.x, sp->center.y, sp->center.z}, sp->radius * sp->radius, index, 0};
+    prim p = {.c = {sp->center.x, sp->center.y, sp->center.z}, .r2 = sp->radius * sp->radius, .index = index};
     return p;
 }
 

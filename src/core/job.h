@@ -43,7 +43,7 @@ typedef struct rt_layout {
 
 static inline rt_layout rt_job_layout(const rt_job *j)
 {
-    rt_layout l = {3, 0, 0, 0};
+    rt_layout l = {.ch = 3};
     if (j->noise_threshold > 0.0)
         l.count = l.ch++;
     if (j->aov & RT_AOV_ALBEDO)

@@ -85,7 +85,7 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
         a = a > T_MIN ? a : T_MIN;
         b = b < t_end ? b : t_end;
         if (b > a)
-            sp[ns++] = (span){a, b, c->s->media.media.items[k].density, k};
+            sp[ns++] = (span){.a = a, .b = b, .density = c->s->media.media.items[k].density, .medium = k};
     }
     if (!ns)
         return 0;
@@ -251,7 +251,7 @@ static uint32_t pilot2(const p2 *c, uint64_t *segments)
 
 static p2 context(const rt_renderer *r, uint32_t x, uint32_t y, int aovs)
 {
-    p2 c = {r, r->world, r->scene, pixel_start(r, x, y, pixel_key(r, x, y), aovs)};
+    p2 c = {.r = r, .w = r->world, .s = r->scene, .pc = pixel_start(r, x, y, pixel_key(r, x, y), aovs)};
     return c;
 }
 

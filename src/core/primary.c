@@ -97,8 +97,14 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
     *out = NULL;
     if (!width || !height)
         return RT_EINVAL;
-    frame F = {cam->origin, cam->lower_left, cam->horizontal, cam->vertical, width > 1 ? width - 1.0 : 1.0,
-               height > 1 ? height - 1.0 : 1.0, width, height};
+    frame F = {.o = cam->origin,
+               .ll = cam->lower_left,
+               .h = cam->horizontal,
+               .v = cam->vertical,
+               .dw = width > 1 ? width - 1.0 : 1.0,
+               .dh = height > 1 ? height - 1.0 : 1.0,
+               .width = width,
+               .height = height};
     const rt_vec3 fwd = rt_v3_neg(cam->w);
     const double f = rt_v3_dot(rt_v3_sub(cam->lower_left, cam->origin), fwd), lr = fabs(cam->lens_radius);
     if (!(f > 0.0) || !isfinite(f))
@@ -137,7 +143,7 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
             continue;
         double tlo = (dc - r - margin) / f, thi = (dc + r + margin) / f;
         const double lens = lr * fmax(fabs(1.0 - (tlo > 0.0 ? tlo : 0.0)), fabs(1.0 - thi));
-        g[live++] = (geom){tlo, i, d, r + lens + margin};
+        g[live++] = (geom){.lo = tlo, .index = i, .rel = d, .reach = r + lens + margin};
     }
     qsort(g, live, sizeof *g, by_lo);
     /* The lists: each block of SUPER x SUPER tiles from all the spheres, each

@@ -268,7 +268,7 @@ static inline rt_sampler rt_sampler_start(const rt_sampler_pixel *px, uint32_t s
 /* A random sampler drawing from r (tests and tools). */
 static inline rt_sampler rt_sampler_from_rng(rt_rng r)
 {
-    rt_sampler s = {{r}, NULL, 0, 0, RT_SAMPLER_RANDOM};
+    rt_sampler s = {.rng = r, .kind = RT_SAMPLER_RANDOM};
     return s;
 }
 

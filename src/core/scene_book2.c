@@ -98,9 +98,13 @@ static int push_quad(rt_scene *s, int hull, rt_vec3 q, rt_vec3 u, rt_vec3 v, uin
 {
     if (!finite3(q) || !finite3(u) || !finite3(v) || (!hull && material >= s->n_materials))
         return RT_EINVAL;
-    rt_quad r = {q, u, v, material}; /* no motion: the values as given, bit for bit (-0 included) */
+    /* no motion: the values as given, bit for bit (-0 included) */
+    rt_quad r = {.q = q, .u = u, .v = v, .material = material};
     if (x)
-        r = (rt_quad){rt_xform_point(x, q), rt_xform_vector(x, u), rt_xform_vector(x, v), material};
+        r = (rt_quad){.q = rt_xform_point(x, q),
+                      .u = rt_xform_vector(x, u),
+                      .v = rt_xform_vector(x, v),
+                      .material = material};
     const rt_vec3 n = rt_v3_cross(r.u, r.v);
     if (!(rt_v3_len2(n) > 0) || !isfinite(rt_v3_len2(n))) /* zero area */
         return RT_EINVAL;
@@ -182,7 +186,11 @@ int rt_scene_add_mover(rt_scene *s, rt_vec3 c0, rt_vec3 c1, double radius, uint3
         st = LIST_GROW(s->shapes.movers);
     if (st)
         return st;
-    rt_mover m = {x ? rt_xform_point(x, c0) : c0, x ? rt_xform_point(x, c1) : c1, radius, material, frame};
+    rt_mover m = {.center0 = x ? rt_xform_point(x, c0) : c0,
+                  .center1 = x ? rt_xform_point(x, c1) : c1,
+                  .radius = radius,
+                  .material = material,
+                  .frame = frame};
     s->shapes.movers.items[s->shapes.movers.n++] = m;
     return RT_OK;
 }

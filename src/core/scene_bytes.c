@@ -128,8 +128,14 @@ static uint64_t scene_bytes(uint32_t nm, uint32_t ns, const counts2 *k, uint32_t
 
 static counts2 counts_of(const rt_scene *s)
 {
-    counts2 k = {s->shapes.quads.n, s->shapes.movers.n, s->shapes.frames.n, s->media.media.n,
-                 s->media.hull.n,   s->tex.textures.n,  s->tex.images.n,    s->tex.n_texels};
+    counts2 k = {.quads = s->shapes.quads.n,
+                 .movers = s->shapes.movers.n,
+                 .frames = s->shapes.frames.n,
+                 .media = s->media.media.n,
+                 .hull = s->media.hull.n,
+                 .textures = s->tex.textures.n,
+                 .images = s->tex.images.n,
+                 .texels = s->tex.n_texels};
     return k;
 }
 

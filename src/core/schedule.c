@@ -109,7 +109,9 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
                     uint32_t s0 = lo + (uint32_t)((uint64_t)(p1 - lo) * j / splits);
                     uint32_t s1 = lo + (uint32_t)((uint64_t)(p1 - lo) * (j + 1) / splits);
                     if (s1 > s0)
-                        st = push(s, &capu, (rt_unit){0, bands[b].y0, bands[b].y1, s0, s1, x0, x1});
+                        st = push(s, &capu,
+                                  (rt_unit){.y0 = bands[b].y0, .y1 = bands[b].y1, .s0 = s0, .s1 = s1, .x0 = x0,
+                                            .x1 = x1});
                 }
             }
         }

@@ -438,7 +438,10 @@ void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, do
     rt_sphere sp;
     if (h->kind == RT_SHAPE_MOVER) {
         const rt_mover *m = &s->shapes.movers.items[h->index];
-        sp = (rt_sphere){mover_center(m, time), m->radius, m->material, m->frame};
+        sp = (rt_sphere){.center = mover_center(m, time),
+                         .radius = m->radius,
+                         .material = m->material,
+                         .frame = m->frame};
     } else {
         sp = s->spheres[h->index];
     }

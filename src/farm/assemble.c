@@ -181,7 +181,7 @@ void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t se
         rt_rank_stats_add(&a->stats[rank], u, a->sched.width, a->sched.samples, segs, start, end);
     /* Out of memory for the trace: it misses events, the render goes on. */
     if (a->tracing && rt_array_reserve((void **)&a->trace, &a->cap_trace, a->n_trace + 1, sizeof *a->trace) == RT_OK)
-        a->trace[a->n_trace++] = (rt_trace_event){rank, *u, start, end};
+        a->trace[a->n_trace++] = (rt_trace_event){.rank = rank, .unit = *u, .start = start, .end = end};
 }
 
 int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, uint32_t n_units)

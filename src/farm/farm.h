@@ -57,25 +57,30 @@ typedef struct rt_trace_event {
     double start, end; /* seconds since the render started */
 } rt_trace_event;
 
+/* The run's side of the hooks, defined by the program that runs the farm:
+ * what the hooks read of the run and the state they update. The farm never
+ * looks inside; it hands the pointer back to each hook. */
+typedef struct rt_farm_client rt_farm_client;
+
 /* What rank 0's main thread calls while the sums come in. Every hook may
  * be NULL. committed[y] counts the samples of row y in acc; both are a
  * consistent copy, valid during the call. */
 typedef struct rt_farm_hooks {
-    void *ctx;
+    rt_farm_client *client;
     /* Often (at least once a millisecond while results arrive): the pass
      * being rendered (1-based), rows with every sample, ray segments. */
-    void (*progress)(void *ctx, uint32_t pass, uint64_t rows_done, uint64_t segments);
+    void (*progress)(rt_farm_client *c, uint32_t pass, uint64_t rows_done, uint64_t segments);
     /* After progressive pass `pass` (1-based) of sched.passes, all but the
      * last: every row has at least `samples` samples. */
-    void (*pass)(void *ctx, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
+    void (*pass)(rt_farm_client *c, uint32_t pass, uint32_t samples, const uint32_t *committed, const int64_t *acc);
     /* Saves the state (a checkpoint) every save_interval seconds while new
      * samples came in, and once more when a signal stops the render.
      * Returns a status: non-zero keeps the samples marked as unsaved. */
-    int (*save)(void *ctx, const uint32_t *committed, const int64_t *acc);
+    int (*save)(rt_farm_client *c, const uint32_t *committed, const int64_t *acc);
     double save_interval;
     /* A signal stopped the render, after the last save (saved: it
      * succeeded); the farm then ends the job with RT_EXIT_INTERRUPTED. */
-    void (*stopped)(void *ctx, int sig, int saved, uint32_t rows_done, uint32_t rows);
+    void (*stopped)(rt_farm_client *c, int sig, int saved, uint32_t rows_done, uint32_t rows);
 } rt_farm_hooks;
 
 typedef struct rt_farm_job {

@@ -82,7 +82,13 @@ int rt_held_add(rt_held *h, const rt_unit *u, const int64_t *sums)
     if (rt_array_reserve((void **)&h->pieces, &h->cap, h->n + 1, sizeof *h->pieces))
         return RT_ENOMEM;
     p = &h->pieces[h->n];
-    *p = (rt_piece){u->y0, u->y1, u->s0, u->s1, u->x0, u->x1, malloc(n * sizeof *p->sums), NULL, 0, 0};
+    *p = (rt_piece){.y0 = u->y0,
+                    .y1 = u->y1,
+                    .s0 = u->s0,
+                    .s1 = u->s1,
+                    .x0 = u->x0,
+                    .x1 = u->x1,
+                    .sums = malloc(n * sizeof *p->sums)};
     if (!p->sums || add_id(p, u->id)) {
         free(p->sums);
         return RT_ENOMEM;

@@ -72,8 +72,10 @@ int rt_msg_reports(size_t count, size_t *n)
 rt_msg_report rt_msg_report_decode(const int64_t *m, size_t k)
 {
     m += k * RT_MSG_REPORT;
-    rt_msg_report r = {m[0] >= 0 && m[0] <= UINT32_MAX ? (uint32_t)m[0] : UINT32_MAX, (uint64_t)m[1],
-                       (double)m[2] * 1e-9, (double)m[3] * 1e-9};
+    rt_msg_report r = {.id = m[0] >= 0 && m[0] <= UINT32_MAX ? (uint32_t)m[0] : UINT32_MAX,
+                       .segs = (uint64_t)m[1],
+                       .start = (double)m[2] * 1e-9,
+                       .end = (double)m[3] * 1e-9};
     return r;
 }
 

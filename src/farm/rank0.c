@@ -26,7 +26,7 @@ static void interrupted(const rt_farm *f, const rt_farm_rank0 *own, rt_root *R)
     if (h->stopped) {
         uint32_t done, rows;
         rt_root_rows(R, &done, &rows);
-        h->stopped(h->ctx, sig, saved, done, rows);
+        h->stopped(h->client, sig, saved, done, rows);
     }
     rt_farm_exit(f, RT_EXIT_INTERRUPTED);
 }
@@ -67,7 +67,7 @@ static void *local_loop(void *arg)
     local *L = arg;
     uint32_t n = rt_root_units(L->R);
     L->taken = calloc(n ? n : 1, sizeof *L->taken);
-    rt_render_source src = {local_take, local_done, NULL, L};
+    rt_render_source src = {.take = local_take, .done = local_done, .ctx = L};
     int st = L->taken ? rt_farm_run_units(L->job, &src) : RT_ENOMEM;
     if (st)
         rt_root_fail(L->R, st);

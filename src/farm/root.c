@@ -157,7 +157,7 @@ static void pass_hook(rt_root *R, uint32_t pass)
     int64_t *acc;
     if (snapshot(R, 0, &committed, &acc) != RT_OK)
         return;
-    h->pass(h->ctx, pass, rt_sched_pass_end(&R->as.sched, pass - 1), committed, acc);
+    h->pass(h->client, pass, rt_sched_pass_end(&R->as.sched, pass - 1), committed, acc);
     release(R, committed, acc);
 }
 
@@ -182,7 +182,7 @@ static int save_hook(rt_root *R, int force)
     int64_t *acc;
     int st = snapshot(R, 1, &committed, &acc);
     if (!st) {
-        st = h->save(h->ctx, committed, acc);
+        st = h->save(h->client, committed, acc);
         release(R, committed, acc);
     }
     if (st) {
@@ -203,7 +203,7 @@ void rt_root_tick(rt_root *R)
     R->as.pass_ready = 0;
     pthread_mutex_unlock(&R->mu);
     if (h->progress)
-        h->progress(h->ctx, done < passes ? done + 1 : done, rows, segs);
+        h->progress(h->client, done < passes ? done + 1 : done, rows, segs);
     if (ready)
         pass_hook(R, done);
     save_hook(R, 0);

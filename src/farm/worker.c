@@ -131,7 +131,7 @@ static void worker_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64
     if (st) {
         w->failed = 1; /* poll ends the job: only the main thread may */
     } else {
-        const rt_msg_report rep = {u->id, segs, start, end};
+        const rt_msg_report rep = {.id = u->id, .segs = segs, .start = start, .end = end};
         rt_msg_report_encode(w->reports + w->n_reports, &rep);
         w->n_reports += RT_MSG_REPORT;
         double held = (double)(w->held.bytes + w->sealed_bytes);
@@ -376,7 +376,7 @@ void rt_farm_work(rt_farm *f, const rt_farm_job *job, rt_rank_stats *me, double 
     send_or_fail(&w, host, (int)strlen(host), MPI_BYTE, RT_TAG_HOST);
     int32_t want = w.depth;
     send_or_fail(&w, &want, 1, MPI_INT32_T, RT_TAG_HELLO);
-    rt_render_source src = {worker_take, worker_done, worker_poll, &w};
+    rt_render_source src = {.take = worker_take, .done = worker_done, .poll = worker_poll, .ctx = &w};
     int st = rt_farm_run_units(job, &src);
     if (st)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));

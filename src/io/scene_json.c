@@ -508,7 +508,7 @@ int rt_scene_json_format(const rt_scene *s, char **text, size_t *len)
 {
     if (rt_scene_is_book2(s)) /* the file format does not hold book 2's content yet */
         return RT_EUNSUPPORTED;
-    sbuf b = {malloc(4096), 0, 4096, 0};
+    sbuf b = {.p = malloc(4096), .cap = 4096};
     if (!b.p)
         return RT_ENOMEM;
     const rt_camera_desc *c = &s->camera;

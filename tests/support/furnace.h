@@ -19,7 +19,12 @@ static inline void furnace_scene(rt_scene *s, rt_accel **a)
     rt_scene_init(s);
     CHECK_EQ_INT(rt_scene_add(s, rt_v3(0, 0, -3), 1.0, rt_scene_lambertian(furnace_albedo())), RT_OK);
     s->sky_bottom = s->sky_top = rt_v3(1, 1, 1);
-    s->camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 20.0, 0.5, 3.0, 0};
+    s->camera = (rt_camera_desc){.lookfrom = rt_v3(0, 0, 0),
+                                 .lookat = rt_v3(0, 0, -1),
+                                 .vup = rt_v3(0, 1, 0),
+                                 .vfov_deg = 20.0,
+                                 .aperture = 0.5,
+                                 .focus_dist = 3.0};
     CHECK_EQ_INT(rt_accel_new(a, s, RT_ACCEL_BVH), RT_OK);
 }
 

@@ -48,7 +48,15 @@ static void check_replay(void)
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     for (int kind = 0; kind < 2; kind++) {
-        rt_job p = {24, 16, 128, 50, 7, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, 1, 0, 0.03, 0};
+        rt_job p = {.width = 24,
+                    .height = 16,
+                    .samples = 128,
+                    .max_depth = 50,
+                    .seed = 7,
+                    .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                    .sampler = (rt_sampler_kind)kind,
+                    .roulette = 1,
+                    .noise_threshold = 0.03};
         rt_renderer r;
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         CHECK_EQ_INT(r.lay.ch, 4);
@@ -98,7 +106,16 @@ static void check_furnace(void)
     const double want[3] = {albedo.x, albedo.y, albedo.z};
     for (int kind = 0; kind < 2; kind++)
         for (int roulette = 0; roulette < 2; roulette++) {
-            rt_job p = {32, 24, 256, 50, 3, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, roulette, 1, 0.05, 0};
+            rt_job p = {.width = 32,
+                        .height = 24,
+                        .samples = 256,
+                        .max_depth = 50,
+                        .seed = 3,
+                        .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                        .sampler = (rt_sampler_kind)kind,
+                        .roulette = roulette,
+                        .roulette_depth = 1,
+                        .noise_threshold = 0.05};
             rt_renderer r;
             CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
             const size_t npix = (size_t)p.width * p.height;
@@ -142,7 +159,16 @@ static void check_bias_power(void)
     rt_scene s;
     rt_accel *a;
     furnace_scene(&s, &a);
-    rt_job p = {128, 96, 256, 50, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 1, 1, 0.05, 0};
+    rt_job p = {.width = 128,
+                .height = 96,
+                .samples = 256,
+                .max_depth = 50,
+                .seed = 5,
+                .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                .sampler = RT_SAMPLER_RANDOM,
+                .roulette = 1,
+                .roulette_depth = 1,
+                .noise_threshold = 0.05};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     const size_t npix = (size_t)p.width * p.height;
@@ -191,8 +217,15 @@ static void check_final_means(void)
     const uint32_t W = 24, H = 16;
     double mean[2][3] = {{0}}, var[2][3] = {{0}};
     for (int c = 0; c < 2; c++) {
-        rt_job p = {W, H, c ? 256 : 1024, 50, 12, RT_DIFFUSE_LAMBERTIAN, c ? RT_SAMPLER_SOBOL : RT_SAMPLER_RANDOM,
-                    c, 0, c ? 0.02 : 0, 0};
+        rt_job p = {.width = W,
+                    .height = H,
+                    .samples = c ? 256 : 1024,
+                    .max_depth = 50,
+                    .seed = 12,
+                    .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                    .sampler = c ? RT_SAMPLER_SOBOL : RT_SAMPLER_RANDOM,
+                    .roulette = c,
+                    .noise_threshold = c ? 0.02 : 0};
         rt_renderer r;
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         for (uint32_t y = 0; y < H; y++)

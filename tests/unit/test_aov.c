@@ -24,7 +24,16 @@ typedef struct image {
 
 static void render(image *im, const rt_scene *s, const rt_accel *a, uint32_t aov, double threshold, int roulette)
 {
-    rt_job p = {30, 20, 64, 50, 9, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, roulette, 0, threshold, aov};
+    rt_job p = {.width = 30,
+                .height = 20,
+                .samples = 64,
+                .max_depth = 50,
+                .seed = 9,
+                .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                .sampler = RT_SAMPLER_SOBOL,
+                .roulette = roulette,
+                .noise_threshold = threshold,
+                .aov = aov};
     CHECK_EQ_INT(rt_render_init(&im->r, s, a, &p), RT_OK);
     im->acc = calloc((size_t)p.width * p.height * im->r.lay.ch, sizeof *im->acc);
     rt_render_rows(&im->r, 0, p.height, 0, p.samples, im->acc, 2);
@@ -50,7 +59,11 @@ static void check_room(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, 0), 100.0, rt_scene_lambertian(b)), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, -3), 1.0, rt_scene_dielectric(1.5)), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(1.3, 0.2, -2.5), 0.5, rt_scene_metal(rt_v3(0.9, 0.9, 0.9), 0.0)), RT_OK);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0, 0};
+    s.camera = (rt_camera_desc){.lookfrom = rt_v3(0, 0, 0),
+                                .lookat = rt_v3(0, 0, -1),
+                                .vup = rt_v3(0, 1, 0),
+                                .vfov_deg = 60.0,
+                                .focus_dist = 3.0};
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     image im;
@@ -95,7 +108,11 @@ static void check_metal_and_sky(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 0, -3), 1.0, rt_scene_metal(m, 0.5)), RT_OK);
     s.sky_bottom = sky;
     s.sky_top = rt_v3(sky.x, sky.y, 1.0);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 60.0, 0.0, 3.0, 0};
+    s.camera = (rt_camera_desc){.lookfrom = rt_v3(0, 0, 0),
+                                .lookat = rt_v3(0, 0, -1),
+                                .vup = rt_v3(0, 1, 0),
+                                .vfov_deg = 60.0,
+                                .focus_dist = 3.0};
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     for (int adaptive = 0; adaptive < 2; adaptive++) {

@@ -12,6 +12,23 @@
 #include "status.h"
 
 enum { W = 5, H = 23, S = 12 };
+static const rt_job JOB = {.width = W,
+                           .height = H,
+                           .samples = S,
+                           .max_depth = 8,
+                           .seed = 1,
+                           .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                           .sampler = RT_SAMPLER_SOBOL,
+                           .roulette = 1};
+/* One pass for 8 ranks in column tiles at least 1 column wide: 3 tiles a
+ * row of 5. */
+static const rt_sched_params TILES = {.max_band = 4,
+                                      .ranks = 8,
+                                      .units_per_rank = 8,
+                                      .min_samples = 1,
+                                      .passes = 1,
+                                      .min_cols = 1,
+                                      .split = RT_SPLIT_COLUMNS};
 
 /* The sums a unit of (rows, samples) would bring: each sample of each
  * channel a value of its own, so a unit added twice, missed, or added at
@@ -54,11 +71,17 @@ static int rows_consistent(const rt_assembly *a)
  * each. */
 static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band, uint32_t min_cols)
 {
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
-    rt_sched_params p = {band, 4, ranks, 8, 1, passes, min_cols, RT_SPLIT_COLUMNS};
+    rt_sched_params p = {.band = band,
+                         .max_band = 4,
+                         .ranks = ranks,
+                         .units_per_rank = 8,
+                         .min_samples = 1,
+                         .passes = passes,
+                         .min_cols = min_cols,
+                         .split = RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
-    CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, (int)ranks, 1), RT_OK);
+    CHECK_EQ_INT(rt_assembly_init(&a, &JOB, &p, NULL, acc, (int)ranks, 1), RT_OK);
     uint32_t n = a.sched.n_units;
     rt_unit *units = malloc(n * sizeof *units);
     for (uint32_t k = 0; k < n; k++)
@@ -116,10 +139,9 @@ int main(void)
     run(3, 8, 23, 0, 1);  /* passes of column tiles, shuffled */
     {
         /* the tiles' widths: 1, 2 and 2 columns of 5 */
-        rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
-        rt_sched_params p = {0, 4, 8, 8, 1, 1, 1, RT_SPLIT_COLUMNS};
+        const rt_sched_params p = TILES;
         rt_sched sc;
-        CHECK_EQ_INT(rt_sched_init(&sc, &job, &p, NULL), RT_OK);
+        CHECK_EQ_INT(rt_sched_init(&sc, &JOB, &p, NULL), RT_OK);
         CHECK_EQ_INT(sc.n_units, 3 * H);
         CHECK_EQ_INT(sc.units[0].x1 - sc.units[0].x0, 1);
         CHECK_EQ_INT(sc.units[2].x0, 3);
@@ -130,11 +152,11 @@ int main(void)
 
     /* A unit out of commit order is kept, not lost: with nothing else in,
      * the second sample range of a row waits for the first. */
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
-    rt_sched_params p = {0, 4, 64, 8, 1, 1, 0, RT_SPLIT_COLUMNS};
+    rt_sched_params p = {
+        .max_band = 4, .ranks = 64, .units_per_rank = 8, .min_samples = 1, .passes = 1, .split = RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
-    CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, acc, 1, 0), RT_OK);
+    CHECK_EQ_INT(rt_assembly_init(&a, &JOB, &p, NULL, acc, 1, 0), RT_OK);
     rt_unit first, later = {0, 0, 0, 0, 0, 0, 0};
     CHECK(rt_sched_next(&a.sched, &first));
     for (rt_unit u; rt_sched_next(&a.sched, &u);)
@@ -158,8 +180,8 @@ int main(void)
     /* A tile waits for the other tiles of its rows and samples, out of the
      * image: only the last brings the row in, whole. */
     memset(acc, 0, (size_t)W * H * 3 * sizeof *acc);
-    rt_sched_params pt = {0, 4, 8, 8, 1, 1, 1, RT_SPLIT_COLUMNS};
-    CHECK_EQ_INT(rt_assembly_init(&a, &job, &pt, NULL, acc, 1, 0), RT_OK);
+    const rt_sched_params pt = TILES;
+    CHECK_EQ_INT(rt_assembly_init(&a, &JOB, &pt, NULL, acc, 1, 0), RT_OK);
     rt_unit t[3];
     for (int k = 0; k < 3; k++)
         CHECK(rt_sched_next(&a.sched, &t[k]));

@@ -8,7 +8,11 @@
 
 int main(void)
 {
-    rt_camera_desc d = {rt_v3(13, 2, 3), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 20.0, 0.0, 10.0, 0};
+    rt_camera_desc d = {.lookfrom = rt_v3(13, 2, 3),
+                        .lookat = rt_v3(0, 0, 0),
+                        .vup = rt_v3(0, 1, 0),
+                        .vfov_deg = 20.0,
+                        .focus_dist = 10.0};
     rt_camera cam;
     CHECK_EQ_INT(rt_camera_init(&cam, &d, 1.5), RT_OK);
     rt_rng rng = rt_rng_for_stream(3, RT_STREAM_TEST);

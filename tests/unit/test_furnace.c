@@ -85,7 +85,15 @@ static void check_furnace(void)
     for (int model = 0; model < 3; model++)
         for (int kind = 0; kind < 2; kind++)
             for (int roulette = 0; roulette < 2; roulette++) {
-                rt_job p = {24, 16, 128, 50, 3, (rt_diffuse)model, (rt_sampler_kind)kind, roulette, 1, 0, 0};
+                rt_job p = {.width = 24,
+                            .height = 16,
+                            .samples = 128,
+                            .max_depth = 50,
+                            .seed = 3,
+                            .diffuse = (rt_diffuse)model,
+                            .sampler = (rt_sampler_kind)kind,
+                            .roulette = roulette,
+                            .roulette_depth = 1};
                 rt_renderer r;
                 CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
                 stats st;
@@ -111,7 +119,13 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
     const rt_scene s = *sc;
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job ref_p = {24, 16, 1024, 50, 11, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
+    rt_job ref_p = {.width = 24,
+                    .height = 16,
+                    .samples = 1024,
+                    .max_depth = 50,
+                    .seed = 11,
+                    .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                    .sampler = RT_SAMPLER_RANDOM};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &ref_p), RT_OK);
     stats ref;
@@ -124,7 +138,14 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
         int roulette;
     } cfg[] = {{RT_SAMPLER_RANDOM, 1}, {RT_SAMPLER_SOBOL, 0}, {RT_SAMPLER_SOBOL, 1}};
     for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; c++) {
-        rt_job p = {24, 16, 256, 50, 12, RT_DIFFUSE_LAMBERTIAN, cfg[c].kind, cfg[c].roulette, 0, 0, 0};
+        rt_job p = {.width = 24,
+                    .height = 16,
+                    .samples = 256,
+                    .max_depth = 50,
+                    .seed = 12,
+                    .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                    .sampler = cfg[c].kind,
+                    .roulette = cfg[c].roulette};
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         stats st;
         sample_stats(&r, &st, &same);
@@ -151,7 +172,11 @@ int main(void)
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, -1000, 0), 1000, rt_scene_lambertian(rt_v3(0.8, 0.8, 0.8))), RT_OK);
     CHECK_EQ_INT(rt_scene_add(&s, rt_v3(0, 1001, 0), 1000, rt_scene_lambertian(rt_v3(0.8, 0.8, 0.8))), RT_OK);
     s.sky_bottom = s.sky_top = rt_v3(1, 1, 1);
-    s.camera = (rt_camera_desc){rt_v3(0, 0.5, 0), rt_v3(1, 0.5, 0), rt_v3(0, 1, 0), 60.0, 0.0, 1.0, 0};
+    s.camera = (rt_camera_desc){.lookfrom = rt_v3(0, 0.5, 0),
+                                .lookat = rt_v3(1, 0.5, 0),
+                                .vup = rt_v3(0, 1, 0),
+                                .vfov_deg = 60.0,
+                                .focus_dist = 1.0};
     check_many_bounces("slab", &s);
     rt_scene_free(&s);
     CHECK_DONE();

@@ -43,8 +43,8 @@ int main(void)
     CHECK_EQ_INT(rt_image_format_from_path("a.jpg"), RT_FORMAT_UNKNOWN);
     CHECK_EQ_INT(rt_image_format_from_path("a.png.gz"), RT_FORMAT_UNKNOWN);
     CHECK_EQ_INT(rt_image_format_from_path("png"), RT_FORMAT_UNKNOWN);
-    rt_image_write_opts o8 = {8, 0, NULL, 0}, o16 = {16, 0, NULL, 0}, ascii = {8, 1, NULL, 0};
-    rt_image_write_opts ascii16 = {16, 1, NULL, 0}, o12 = {12, 0, NULL, 0};
+    rt_image_write_opts o8 = {.bit_depth = 8}, o16 = {.bit_depth = 16}, ascii = {.bit_depth = 8, .ppm_ascii = 1};
+    rt_image_write_opts ascii16 = {.bit_depth = 16, .ppm_ascii = 1}, o12 = {.bit_depth = 12};
     CHECK_EQ_INT(rt_image_check_opts(RT_FORMAT_PNG, &o16), RT_OK);
     CHECK_EQ_INT(rt_image_check_opts(RT_FORMAT_PPM, &ascii16), RT_OK);
     CHECK_EQ_INT(rt_image_check_opts(RT_FORMAT_BMP, &o16), RT_EUNSUPPORTED);

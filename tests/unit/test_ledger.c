@@ -11,9 +11,22 @@
 
 int main(void)
 {
-    rt_job job = {8, 20, 12, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job job = {.width = 8,
+                  .height = 20,
+                  .samples = 12,
+                  .max_depth = 8,
+                  .seed = 1,
+                  .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                  .sampler = RT_SAMPLER_SOBOL,
+                  .roulette = 1};
     /* bands of 2 rows, 3 ranks, 3 passes; 8 columns: too narrow for tiles */
-    rt_sched_params p = {2, 4, 3, 8, 1, 3, 0, RT_SPLIT_COLUMNS};
+    rt_sched_params p = {.band = 2,
+                         .max_band = 4,
+                         .ranks = 3,
+                         .units_per_rank = 8,
+                         .min_samples = 1,
+                         .passes = 3,
+                         .split = RT_SPLIT_COLUMNS};
     rt_sched s;
     CHECK_EQ_INT(rt_sched_init(&s, &job, &p, NULL), RT_OK);
     rt_ledger L;

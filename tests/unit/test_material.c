@@ -53,7 +53,7 @@ static void diffuse_samples(rt_sampler_kind kind, rt_diffuse model, rt_vec3 nrm,
 {
     rt_sampler smp = rt_sampler_from_rng(rt_rng_for_stream(1000 + model, RT_STREAM_TEST));
     rt_material m = {.kind = RT_MAT_LAMBERTIAN, .albedo = rt_v3(0.5, 0.5, 0.5), .fuzz = 0.0, .ior = 1.0};
-    rt_surface s = {rt_v3(0, 0, 0), nrm, 1.0, 1};
+    rt_surface s = {.p = rt_v3(0, 0, 0), .normal = nrm, .t = 1.0, .front_face = 1};
     rt_vec3 t1 = rt_v3_unit(rt_v3_cross(nrm, rt_v3(1, 0, 0))), t2 = rt_v3_cross(nrm, t1);
     rt_ray in = {rt_v3_add(nrm, rt_v3(0.3, 0, 0)), rt_v3_neg(nrm)};
     rt_sampler_pixel px;
@@ -108,7 +108,7 @@ int main(void)
 {
     rt_rng rng = rt_rng_for_stream(1, RT_STREAM_TEST);
     rt_sampler smp = rt_sampler_from_rng(rt_rng_for_stream(2, RT_STREAM_TEST));
-    rt_surface s = {rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1.0, 1};
+    rt_surface s = {.p = rt_v3(0, 0, 0), .normal = rt_v3(0, 1, 0), .t = 1.0, .front_face = 1};
     rt_vec3 att;
     rt_ray out;
 
@@ -125,7 +125,7 @@ int main(void)
     /* Glass from inside at a grazing angle: total internal reflection,
      * always (no random choice involved). */
     rt_material glass = {.kind = RT_MAT_DIELECTRIC, .albedo = rt_v3(1, 1, 1), .fuzz = 0.0, .ior = 1.5};
-    rt_surface inside = {rt_v3(0, 0, 0), rt_v3(0, -1, 0), 1.0, 0};
+    rt_surface inside = {.p = rt_v3(0, 0, 0), .normal = rt_v3(0, -1, 0), .t = 1.0};
     rt_ray graze = {rt_v3(-1, -0.2, 0), rt_v3(1, 0.2, 0)};
     int tir = 1;
     for (int i = 0; i < 1000; i++) {

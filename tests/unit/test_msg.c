@@ -118,7 +118,7 @@ static void test_small(void)
     CHECK_EQ_INT(rt_msg_int_decode(two, 2, &v), RT_EFORMAT);
     CHECK_EQ_INT(rt_msg_int_decode(two, 0, &v), RT_EFORMAT);
 
-    const rt_msg_bye b = {1.25, 0.5, 812.0, 64.5};
+    const rt_msg_bye b = {.wait = 1.25, .comm = 0.5, .peak_mb = 812.0, .held_mb = 64.5};
     double m[RT_MSG_BYE + 1] = {0};
     rt_msg_bye_encode(m, &b);
     rt_msg_bye back;

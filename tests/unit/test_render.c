@@ -76,7 +76,14 @@ int main(void)
     CHECK_EQ_INT(rt_scene_build_final(&s, 5, 3), RT_OK);
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job p = {.width = 40,
+                .height = 24,
+                .samples = 6,
+                .max_depth = 20,
+                .seed = 5,
+                .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                .sampler = RT_SAMPLER_SOBOL,
+                .roulette = 1};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     size_t n = (size_t)p.width * p.height * 3;
@@ -118,7 +125,7 @@ int main(void)
             memset(alt, 0, n * sizeof *alt);
             source S = {.units = units, .n = n_units, .width = p.width, .acc = alt, .trickle = trickle,
                         .caller = pthread_self()};
-            rt_render_source src = {src_take, src_done, trickle ? src_poll : NULL, &S};
+            rt_render_source src = {.take = src_take, .done = src_done, .poll = trickle ? src_poll : NULL, .ctx = &S};
             CHECK_EQ_INT(rt_render_stream(&r, threads, &src), RT_OK);
             CHECK(memcmp(ref, alt, n * sizeof *ref) == 0);
             CHECK_EQ_U64(S.segments, segs_ref);
@@ -144,7 +151,7 @@ int main(void)
         rs.stop = &stop;
         memset(alt, 0, n * sizeof *alt);
         source S = {.units = units, .n = n_units, .stop_at = 3, .width = p.width, .acc = alt, .stop = &stop};
-        rt_render_source src = {src_take, src_done, NULL, &S};
+        rt_render_source src = {.take = src_take, .done = src_done, .ctx = &S};
         CHECK_EQ_INT(rt_render_stream(&rs, threads, &src), RT_OK);
         CHECK_EQ_INT(stop, 1);
         CHECK_EQ_INT(S.next, 4); /* unit 3 was taken as the stop came, none after */
@@ -205,7 +212,16 @@ int main(void)
     /* A wide layout (adaptive count, normal) to 3 sums of -s samples: the
      * colour scaled from each pixel's count (rounded half away from zero),
      * a signed buffer likewise, a pixel with no samples 0. */
-    rt_job wj = {2, 1, 64, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0.05, RT_AOV_NORMAL};
+    rt_job wj = {.width = 2,
+                 .height = 1,
+                 .samples = 64,
+                 .max_depth = 8,
+                 .seed = 1,
+                 .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                 .sampler = RT_SAMPLER_SOBOL,
+                 .roulette = 1,
+                 .noise_threshold = 0.05,
+                 .aov = RT_AOV_NORMAL};
     const rt_layout wl = rt_job_layout(&wj);
     CHECK_EQ_INT(wl.ch, 7);
     CHECK_EQ_INT(wl.count, 3);

@@ -75,8 +75,21 @@ typedef struct plan {
 static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
 {
     /* 8 columns: narrower than a tile (16), so few rows split samples */
-    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0},
-              {band, 16, ranks, per_rank, 1, passes, 0, RT_SPLIT_COLUMNS}};
+    plan p = {.job = {.width = 8,
+                      .height = h,
+                      .samples = s,
+                      .max_depth = 50,
+                      .seed = 1,
+                      .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                      .sampler = RT_SAMPLER_SOBOL,
+                      .roulette = 1},
+              .p = {.band = band,
+                    .max_band = 16,
+                    .ranks = ranks,
+                    .units_per_rank = per_rank,
+                    .min_samples = 1,
+                    .passes = passes,
+                    .split = RT_SPLIT_COLUMNS}};
     return p;
 }
 

@@ -76,7 +76,7 @@ int main(void)
     }
 
     /* Normals face against the ray; hollow spheres flip outward. */
-    rt_sphere solid = {c, 1.0, 0, 0}, hollow = {c, -1.0, 0, 0};
+    rt_sphere solid = {.center = c, .radius = 1.0}, hollow = {.center = c, .radius = -1.0};
     rt_ray in = {rt_v3(0, 0, 0), rt_v3(0, 0, -1)};
     rt_surface s;
     rt_surface_from_sphere(&s, &solid, &in, 4.0);

@@ -192,11 +192,22 @@ static void check_transmittance(int overlap)
     CHECK_EQ_INT(rt_scene_add_medium_sphere(&s, rt_v3(0, 0, 0), 1, NAN, iso), RT_EINVAL);
     s.background_kind = RT_BACKGROUND_COLOR;
     s.background = rt_v3(1, 1, 1);
-    s.camera = (rt_camera_desc){rt_v3(0, 0, 0), rt_v3(0, 0, -1), rt_v3(0, 1, 0), 1e-3, 0.0, 1.0, RT_PIXELS_BOOK2};
+    s.camera = (rt_camera_desc){.lookfrom = rt_v3(0, 0, 0),
+                                .lookat = rt_v3(0, 0, -1),
+                                .vup = rt_v3(0, 1, 0),
+                                .vfov_deg = 1e-3,
+                                .focus_dist = 1.0,
+                                .pixels = RT_PIXELS_BOOK2};
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     rt_renderer r;
-    rt_job job = {1, 1, 1, 8, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
+    rt_job job = {.width = 1,
+                  .height = 1,
+                  .samples = 1,
+                  .max_depth = 8,
+                  .seed = 5,
+                  .diffuse = RT_DIFFUSE_LAMBERTIAN,
+                  .sampler = RT_SAMPLER_RANDOM};
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &job), RT_OK);
     CHECK(r.world != NULL);
     const uint32_t N = 100000;
