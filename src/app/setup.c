@@ -19,8 +19,9 @@
 #include "texture_image.h"
 
 /* The earth texture of the named scenes that show it, read from
- * --texture-dir; an exit code (bad input: RT_EXIT_USAGE) with err set. */
-static rt_exit_code read_earth(const rt_options *o, rt_texture_image *img, char *err, size_t errlen)
+ * --texture-dir (its file listed in *files); an exit code (bad input:
+ * RT_EXIT_USAGE) with err set. */
+static rt_exit_code read_earth(const rt_options *o, rt_texture_image *img, rt_scene_files *files, char *err, size_t errlen)
 {
     const char *dir = o->texture_dir ? o->texture_dir : ".";
     char path[4096];
@@ -36,20 +37,23 @@ static rt_exit_code read_earth(const rt_options *o, rt_texture_image *img, char 
                  path, o->scene);
     else if (st)
         snprintf(err, errlen, "%s: %s", path, rt_status_str(st));
+    if (!st && (st = rt_scene_files_add(files, path)) != RT_OK)
+        snprintf(err, errlen, "%s", rt_status_str(st));
     return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
 }
 
-/* The scene of this run, named or from a file; an exit code. */
-static rt_exit_code make_scene(const rt_options *o, rt_scene *s, char *err, size_t errlen)
+/* The scene of this run, named or from a file, and the files of its
+ * images; an exit code. */
+static rt_exit_code make_scene(const rt_options *o, rt_scene *s, rt_scene_files *files, char *err, size_t errlen)
 {
     if (o->scene_file) {
-        int st = rt_scene_json_load(s, o->scene_file, err, errlen);
+        int st = rt_scene_json_load(s, o->scene_file, files, err, errlen);
         return !st ? RT_EXIT_OK : st == RT_ENOMEM ? RT_EXIT_RUNTIME : RT_EXIT_USAGE;
     }
     const rt_scene_info *info = rt_scenes_find(o->scene);
     rt_texture_image earth = {0, 0, NULL};
     if (info && info->needs_earth) {
-        rt_exit_code code = read_earth(o, &earth, err, errlen);
+        rt_exit_code code = read_earth(o, &earth, files, err, errlen);
         if (code)
             return code;
     }
@@ -65,23 +69,21 @@ rt_exit_code rt_run_dump_scene(const rt_options *o)
 {
     char err[1024] = "";
     rt_scene s;
+    rt_scene_files files = {NULL, 0, 0};
     rt_scene_init(&s);
     rt_exit_code code = rt_cli_check_path("--dump-scene", o->dump_scene, err, sizeof err) ? RT_EXIT_USAGE : RT_EXIT_OK;
     if (!code)
-        code = make_scene(o, &s, err, sizeof err);
+        code = make_scene(o, &s, &files, err, sizeof err);
     if (!code) {
-        int st = rt_scene_json_dump(&s, o->dump_scene);
-        if (st == RT_EUNSUPPORTED) {
-            snprintf(err, sizeof err, "--dump-scene: scene files cannot hold book 2's content yet (quads, textures, "
-                                      "media, lights); only book 1's scenes can be written");
-            code = RT_EXIT_USAGE;
-        } else if (st) {
+        int st = rt_scene_json_dump(&s, &files, o->dump_scene);
+        if (st) {
             snprintf(err, sizeof err, "writing %s: %s", o->dump_scene, rt_status_str(st));
             code = RT_EXIT_RUNTIME;
         }
     }
     if (code)
         fprintf(stderr, "rt-mpi: error: %s\n", err);
+    rt_scene_files_free(&files);
     rt_scene_free(&s);
     return code;
 }
@@ -92,7 +94,9 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
      * bad scene file is bad input like a bad option. */
     rt_scene built;
     rt_scene_init(&built);
-    int code = rank->root ? (int)make_scene(o, &built, err, errlen) : RT_EXIT_OK; /* an int to broadcast */
+    rt_scene_files files = {NULL, 0, 0};
+    int code = rank->root ? (int)make_scene(o, &built, &files, err, errlen) : RT_EXIT_OK; /* an int to broadcast */
+    rt_scene_files_free(&files);
     rt_farm_bcast_int(&rank->farm, &code);
     if (code) {
         rt_scene_free(&built);

@@ -233,6 +233,15 @@ int rt_scene_add_mover(rt_scene *s, rt_vec3 center0, rt_vec3 center1, double rad
 int rt_scene_add_medium_sphere(rt_scene *s, rt_vec3 center, double radius, double density, uint32_t material);
 int rt_scene_add_medium_box(rt_scene *s, rt_vec3 a, rt_vec3 b, double density, uint32_t material,
                             const struct rt_xform *x);
+/* Media inside the closed convex hull of n quads (4 to 64), placed by x
+ * (a scene file's "hull"; a dump writes every box medium this way). */
+int rt_scene_add_medium_hull(rt_scene *s, const rt_quad *quads, uint32_t n, double density, uint32_t material,
+                             const struct rt_xform *x);
+/* RT_OK when the n quads bound a closed convex body: every edge is an
+ * edge of another quad, and every corner lies on one side of each quad's
+ * plane (to 1e-9 of the largest coordinate); RT_EINVAL when open (or
+ * fewer than 4, more than 64), RT_ERANGE when not convex. */
+int rt_scene_hull_check(const rt_quad *quads, uint32_t n);
 /* 1 when s uses anything of book 2 (the book-2 path loop renders it). */
 int rt_scene_is_book2(const rt_scene *s);
 

@@ -231,6 +231,75 @@ int rt_scene_add_medium_box(rt_scene *s, rt_vec3 a, rt_vec3 b, double density, u
     return push_medium(s, &m);
 }
 
+/* The corners of quad q, in order. */
+static void corners(const rt_quad *q, rt_vec3 c[4])
+{
+    c[0] = q->q;
+    c[1] = rt_v3_add(q->q, q->u);
+    c[2] = rt_v3_add(c[1], q->v);
+    c[3] = rt_v3_add(q->q, q->v);
+}
+
+static int near3(rt_vec3 a, rt_vec3 b, double tol) { return rt_v3_len(rt_v3_sub(a, b)) <= tol; }
+
+int rt_scene_hull_check(const rt_quad *q, uint32_t n)
+{
+    if (n < 4 || n > 64)
+        return RT_EINVAL;
+    double size = 0;
+    for (uint32_t i = 0; i < n; i++)
+        size = fmax(size, fmax(rt_v3_len(q[i].q), fmax(rt_v3_len(q[i].u), rt_v3_len(q[i].v))));
+    const double tol = 1e-9 * size; /* rotated corners differ in their last bits */
+    for (uint32_t i = 0; i < n; i++) {
+        rt_vec3 a[4];
+        corners(&q[i], a);
+        const rt_vec3 nrm = rt_v3_cross(q[i].u, q[i].v);
+        const double len = rt_v3_len(nrm);
+        for (int e = 0; e < 4; e++) { /* every edge is another face's edge, either way round */
+            int shared = 0;
+            for (uint32_t j = 0; j < n && !shared; j++) {
+                rt_vec3 b[4];
+                corners(&q[j], b);
+                for (int f = 0; f < 4 && j != i && !shared; f++)
+                    shared = (near3(a[e], b[f], tol) && near3(a[(e + 1) % 4], b[(f + 1) % 4], tol)) ||
+                             (near3(a[e], b[(f + 1) % 4], tol) && near3(a[(e + 1) % 4], b[f], tol));
+            }
+            if (!shared)
+                return RT_EINVAL;
+        }
+        int side = 0; /* convex: every corner on one side of each face's plane */
+        for (uint32_t j = 0; j < n; j++) {
+            rt_vec3 b[4];
+            corners(&q[j], b);
+            for (int f = 0; f < 4; f++) {
+                const double d = rt_v3_dot(nrm, rt_v3_sub(b[f], q[i].q)) / len;
+                const int sd = d > tol ? 1 : d < -tol ? -1 : 0;
+                if (sd && side && sd != side)
+                    return RT_ERANGE;
+                side = sd ? sd : side;
+            }
+        }
+    }
+    return RT_OK;
+}
+
+int rt_scene_add_medium_hull(rt_scene *s, const rt_quad *quads, uint32_t n, double density, uint32_t material,
+                             const rt_xform *x)
+{
+    if (!(density > 0) || !isfinite(density) || material >= s->n_materials)
+        return RT_EINVAL;
+    rt_medium m = {.shape = RT_MEDIUM_HULL, .first = s->media.hull.n, .count = n, .density = density,
+                   .material = material};
+    int st = rt_scene_hull_check(quads, n) ? RT_EINVAL : RT_OK;
+    for (uint32_t i = 0; i < n && !st; i++)
+        st = push_quad(s, 1, quads[i].q, quads[i].u, quads[i].v, 0, x);
+    if (!st)
+        st = push_medium(s, &m);
+    if (st)
+        s->media.hull.n = m.first;
+    return st;
+}
+
 int rt_scene_is_book2(const rt_scene *s)
 {
     for (uint32_t i = 0; i < s->n_materials; i++)

@@ -1,378 +1,382 @@
 /* scene_json.c - loading scene files with cJSON (strict: unknown or
  * duplicate fields, wrong types and out-of-range values are refused with
- * the field's path), and writing them back with round-trip exact numbers. */
+ * the field's path): the file, the camera, the background, the materials
+ * and the spheres (book 1's objects); book 2's objects are read by
+ * scene_json_book2.c, and scene_json_write.c writes files. */
 #include "scene_json.h"
 #include "io_internal.h"
+#include "scene_json_read.h"
 
-#include "array.h"
-
-#include <cJSON.h>
 #include <errno.h>
-#include <float.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "array.h"
 #include "camera.h"
 #include "fileio.h"
 #include "status.h"
 
-/* Coordinates and radii beyond this would overflow the squares taken by the
- * intersection and the BVH's boxes. */
-#define MAX_COORD 1e12
 #define MAX_SKY 1000.0
 #define MAX_IOR 100.0
+#define MAX_EMIT 1e6
+#define PI 3.14159265358979323846
 
-typedef struct ctx {
-    const char *name;
-    char *err;
-    size_t errlen;
-} ctx;
-
-static int fail(ctx *c, int status, const char *where, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
-static int fail(ctx *c, int status, const char *where, const char *fmt, ...)
+int rt_scene_files_add(rt_scene_files *f, const char *path)
 {
-    char msg[256];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
-    va_end(ap);
-    if (c->errlen)
-        snprintf(c->err, c->errlen, "%s: %s%s%s", c->name, where, *where ? ": " : "", msg);
-    return status;
-}
-
-/* A key from the file, fit to quote in a one-line message. */
-static void quote_key(const char *key, char *out, size_t n)
-{
-    size_t j = 0;
-    for (size_t i = 0; key[i] && j + 4 < n; i++) {
-        if (i == 40) {
-            out[j++] = '.';
-            out[j++] = '.';
-            out[j++] = '.';
-            break;
-        }
-        unsigned char ch = (unsigned char)key[i];
-        out[j++] = ch >= 0x20 && ch < 0x7f ? (char)ch : '?';
+    char *copy = malloc(strlen(path) + 1);
+    if (!copy || rt_array_reserve((void **)&f->images, &f->cap, (size_t)f->n + 1, sizeof *f->images)) {
+        free(copy);
+        return RT_ENOMEM;
     }
-    out[j] = 0;
-}
-
-static void join(char *out, size_t n, const char *where, const char *key)
-{
-    snprintf(out, n, "%s%s%s", where, *where ? "." : "", key);
-}
-
-/* Every key of obj must be one of allowed (NULL-terminated) and appear once. */
-static int check_keys(ctx *c, const cJSON *obj, const char *where, const char *const *allowed)
-{
-    const cJSON *item;
-    cJSON_ArrayForEach(item, obj)
-    {
-        char q[48], at[160];
-        quote_key(item->string ? item->string : "", q, sizeof q);
-        join(at, sizeof at, where, q);
-        int known = 0;
-        for (const char *const *a = allowed; *a; a++)
-            known |= !strcmp(item->string, *a);
-        if (!known) {
-            char list[160] = "";
-            for (const char *const *a = allowed; *a; a++)
-                snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", a == allowed ? "" : ", ", *a);
-            return fail(c, RT_EFORMAT, at, "unknown field (expected one of: %s)", list);
-        }
-        for (const cJSON *prev = obj->child; prev != item; prev = prev->next)
-            if (!strcmp(prev->string, item->string))
-                return fail(c, RT_EFORMAT, at, "duplicate field");
-    }
+    strcpy(copy, path);
+    f->images[f->n++] = copy;
     return RT_OK;
 }
 
-static int need_object(ctx *c, const cJSON *item, const char *where)
+void rt_scene_files_free(rt_scene_files *f)
 {
-    if (!item)
-        return fail(c, RT_EFORMAT, where, "missing");
-    return cJSON_IsObject(item) ? RT_OK : fail(c, RT_EFORMAT, where, "expected an object");
+    for (uint32_t i = 0; i < f->n; i++)
+        free(f->images[i]);
+    free(f->images);
+    memset(f, 0, sizeof *f);
 }
 
-/* A finite number in [lo, hi]; OPEN_LO / OPEN_HI leave an end out of the
- * range. A NULL item is "missing". */
-enum { CLOSED = 0, OPEN_LO = 1, OPEN_HI = 2 };
-static int get_number_in(ctx *c, const cJSON *item, const char *where, double lo, double hi, int open,
-                         double *out)
+/* The lens, given as aperture or as book v4's defocus_angle. */
+static int parse_lens(rt_json_ctx *c, const cJSON *cam, rt_camera_desc *d)
 {
-    if (!item)
-        return fail(c, RT_EFORMAT, where, "missing");
-    if (!cJSON_IsNumber(item))
-        return fail(c, RT_EFORMAT, where, "expected a number");
-    double v = item->valuedouble;
-    if (!isfinite(v))
-        return fail(c, RT_EFORMAT, where, "expected a finite number");
-    if (!(open & OPEN_LO ? v > lo : v >= lo) || !(open & OPEN_HI ? v < hi : v <= hi))
-        return fail(c, RT_EFORMAT, where, "%.17g is out of range %c%g, %g%c", v, open & OPEN_LO ? '(' : '[', lo, hi,
-                    open & OPEN_HI ? ')' : ']');
-    *out = v;
-    return RT_OK;
-}
-
-static int get_number(ctx *c, const cJSON *item, const char *where, double lo, double hi, double *out)
-{
-    return get_number_in(c, item, where, lo, hi, CLOSED, out);
-}
-
-static int get_vec3(ctx *c, const cJSON *item, const char *where, double lo, double hi, rt_vec3 *out)
-{
-    if (!item)
-        return fail(c, RT_EFORMAT, where, "missing");
-    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != 3)
-        return fail(c, RT_EFORMAT, where, "expected an array of 3 numbers");
-    double v[3];
-    int i = 0;
-    const cJSON *e;
-    cJSON_ArrayForEach(e, item)
-    {
-        char at[200];
-        snprintf(at, sizeof at, "%s[%d]", where, i);
-        int st = get_number(c, e, at, lo, hi, &v[i]);
-        if (st)
-            return st;
-        i++;
+    const cJSON *aperture = cJSON_GetObjectItemCaseSensitive(cam, "aperture");
+    const cJSON *angle = cJSON_GetObjectItemCaseSensitive(cam, "defocus_angle");
+    d->aperture = 0.0;
+    if (aperture && angle)
+        return rt_json_fail(c, RT_EFORMAT, "camera", "give the lens as aperture or as defocus_angle, not both");
+    int st = rt_json_opt_number(c, cam, "camera", "aperture", 0.0, RT_JSON_MAX_COORD, RT_JSON_CLOSED, &d->aperture);
+    if (!st && angle) {
+        /* a cone of this angle with its apex at the focus plane has a base
+         * of diameter 2 focus_dist tan(angle / 2) */
+        double deg;
+        st = rt_json_number(c, angle, "camera.defocus_angle", 0.0, 180.0, RT_JSON_OPEN_HI, &deg);
+        if (!st)
+            d->aperture = 2.0 * d->focus_dist * tan(deg * PI / 360.0);
     }
-    *out = rt_v3(v[0], v[1], v[2]);
-    return RT_OK;
+    return st;
 }
 
-/* Optional member: the default stays in *out when absent. */
-static int opt_number(ctx *c, const cJSON *obj, const char *where, const char *key, double lo, double hi,
-                      int open, double *out)
-{
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    char at[200];
-    join(at, sizeof at, where, key);
-    return item ? get_number_in(c, item, at, lo, hi, open, out) : RT_OK;
-}
-
-static int member_vec3(ctx *c, const cJSON *obj, const char *where, const char *key, int required, double lo,
-                       double hi, rt_vec3 *out)
-{
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, key);
-    char at[200];
-    join(at, sizeof at, where, key);
-    return item || required ? get_vec3(c, item, at, lo, hi, out) : RT_OK;
-}
-
-static int parse_camera(ctx *c, const cJSON *cam, rt_camera_desc *d)
+static int parse_camera(rt_json_ctx *c, const cJSON *cam, int version, rt_camera_desc *d)
 {
     static const char *const keys[] = {"lookfrom", "lookat",     "vup", "vfov", "aperture", "defocus_angle",
-                                       "focus_dist", NULL};
+                                       "focus_dist", "pixels", NULL};
     const char *w = "camera";
-    int st = need_object(c, cam, w);
+    int st = rt_json_need_object(c, cam, w);
+    if (!st) {
+        const char *const *k = keys;
+        const char *v1[8];
+        if (version == 1) { /* version 1 has no pixels */
+            memcpy(v1, keys, sizeof v1);
+            v1[7] = NULL;
+            k = v1;
+        }
+        st = rt_json_check_keys(c, cam, w, k);
+    }
     if (!st)
-        st = check_keys(c, cam, w, keys);
+        st = rt_json_point(c, cam, w, "lookfrom", &d->lookfrom);
     if (!st)
-        st = member_vec3(c, cam, w, "lookfrom", 1, -MAX_COORD, MAX_COORD, &d->lookfrom);
+        st = rt_json_point(c, cam, w, "lookat", &d->lookat);
     if (!st)
-        st = member_vec3(c, cam, w, "lookat", 1, -MAX_COORD, MAX_COORD, &d->lookat);
-    d->vup = rt_v3(0, 1, 0);
+        st = rt_json_member_vec3(c, cam, w, "vup", 0, -RT_JSON_MAX_COORD, RT_JSON_MAX_COORD, &d->vup);
     if (!st)
-        st = member_vec3(c, cam, w, "vup", 0, -MAX_COORD, MAX_COORD, &d->vup);
-    d->vfov_deg = 90.0;
-    if (!st)
-        st = opt_number(c, cam, w, "vfov", 0.0, 180.0, OPEN_LO | OPEN_HI, &d->vfov_deg);
+        st = rt_json_opt_number(c, cam, w, "vfov", 0.0, 180.0, RT_JSON_OPEN_LO | RT_JSON_OPEN_HI, &d->vfov_deg);
     if (st)
         return st;
     d->focus_dist = rt_v3_len(rt_v3_sub(d->lookfrom, d->lookat));
     if (d->focus_dist == 0.0)
-        return fail(c, RT_EFORMAT, "camera.lookat", "equals camera.lookfrom (no view direction)");
-    st = opt_number(c, cam, w, "focus_dist", 0.0, MAX_COORD, OPEN_LO, &d->focus_dist);
-    const cJSON *aperture = cJSON_GetObjectItemCaseSensitive(cam, "aperture");
-    const cJSON *angle = cJSON_GetObjectItemCaseSensitive(cam, "defocus_angle");
-    d->aperture = 0.0;
-    if (!st && aperture && angle)
-        return fail(c, RT_EFORMAT, w, "give the lens as aperture or as defocus_angle, not both");
+        return rt_json_fail(c, RT_EFORMAT, "camera.lookat", "equals camera.lookfrom (no view direction)");
+    st = rt_json_opt_number(c, cam, w, "focus_dist", 0.0, RT_JSON_MAX_COORD, RT_JSON_OPEN_LO, &d->focus_dist);
     if (!st)
-        st = opt_number(c, cam, w, "aperture", 0.0, MAX_COORD, CLOSED, &d->aperture);
-    if (!st && angle) {
-        /* Book v4's lens: a cone of this angle with its apex at the focus
-         * plane has a base of diameter 2 focus_dist tan(angle / 2). */
-        double deg;
-        st = get_number_in(c, angle, "camera.defocus_angle", 0.0, 180.0, OPEN_HI, &deg);
-        if (!st)
-            d->aperture = 2.0 * d->focus_dist * tan(deg * 3.14159265358979323846 / 360.0);
+        st = parse_lens(c, cam, d);
+    const cJSON *px = cJSON_GetObjectItemCaseSensitive(cam, "pixels");
+    if (!st && px) {
+        if (cJSON_IsString(px) && !strcmp(px->valuestring, "book1"))
+            d->pixels = RT_PIXELS_SEED;
+        else if (cJSON_IsString(px) && !strcmp(px->valuestring, "book2"))
+            d->pixels = RT_PIXELS_BOOK2;
+        else
+            return rt_json_fail(c, RT_EFORMAT, "camera.pixels", "expected \"book1\" or \"book2\"");
     }
     rt_camera probe;
     if (!st && rt_camera_init(&probe, d, 1.0) != RT_OK)
-        return fail(c, RT_EFORMAT, "camera.vup", "zero or parallel to the view direction (lookat - lookfrom)");
+        return rt_json_fail(c, RT_EFORMAT, "camera.vup", "zero or parallel to the view direction (lookat - lookfrom)");
     return st;
 }
 
-static int parse_background(ctx *c, const cJSON *bg, rt_scene *s)
+static int parse_background(rt_json_ctx *c, const cJSON *bg, int version, rt_scene *s)
 {
-    static const char *const keys[] = {"bottom", "top", NULL};
+    static const char *const keys[] = {"bottom", "top", "color", NULL};
     const char *w = "background";
-    int st = need_object(c, bg, w);
+    int st = rt_json_need_object(c, bg, w);
     if (!st)
-        st = check_keys(c, bg, w, keys);
+        st = rt_json_check_keys(c, bg, w, version == 1 ? (const char *const[]){"bottom", "top", NULL} : keys);
     if (!st)
-        st = member_vec3(c, bg, w, "bottom", 0, 0.0, MAX_SKY, &s->sky_bottom);
+        st = rt_json_member_vec3(c, bg, w, "bottom", 0, 0.0, MAX_SKY, &s->sky_bottom);
     if (!st)
-        st = member_vec3(c, bg, w, "top", 0, 0.0, MAX_SKY, &s->sky_top);
+        st = rt_json_member_vec3(c, bg, w, "top", 0, 0.0, MAX_SKY, &s->sky_top);
+    if (!st && cJSON_GetObjectItemCaseSensitive(bg, "color")) {
+        s->background_kind = RT_BACKGROUND_COLOR;
+        st = rt_json_member_vec3(c, bg, w, "color", 1, 0.0, MAX_SKY, &s->background);
+    }
     return st;
 }
 
-static int parse_material(ctx *c, const cJSON *obj, const char *w, rt_material *m)
+/* A colour (key) or a texture, exactly one of them: *tex 1 + index, or 0. */
+static int colour_or_texture(rt_json_ctx *c, const cJSON *obj, const char *w, const char *key, double hi,
+                             const rt_scene *s, rt_vec3 *colour, uint32_t *tex)
 {
-    static const char *const lam_keys[] = {"type", "albedo", NULL};
-    static const char *const metal_keys[] = {"type", "albedo", "fuzz", NULL};
-    static const char *const glass_keys[] = {"type", "ior", NULL};
-    int st = need_object(c, obj, w);
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(obj, "texture");
+    char at[200];
+    *tex = 0;
+    *colour = rt_v3(0, 0, 0);
+    if (!t)
+        return rt_json_member_vec3(c, obj, w, key, 1, 0.0, hi, colour);
+    if (cJSON_GetObjectItemCaseSensitive(obj, key))
+        return rt_json_fail(c, RT_EFORMAT, w, "give %s or texture, not both", key);
+    rt_json_join(at, sizeof at, w, "texture");
+    int st = rt_json_ref(c, t, at, "textures", s->tex.textures.n, tex);
+    *tex += 1;
+    return st;
+}
+
+/* The kinds of book 2 (textured lambertian, emitter, isotropic). */
+static int parse_material2(rt_json_ctx *c, const cJSON *obj, const char *w, const char *type, rt_scene *s,
+                           rt_material *m)
+{
+    static const char *const lam_keys[] = {"type", "name", "albedo", "texture", NULL};
+    static const char *const light_keys[] = {"type", "name", "emit", "texture", "two_sided", NULL};
+    rt_vec3 col;
+    uint32_t tex;
+    int st;
+    if (!strcmp(type, "lambertian") || !strcmp(type, "isotropic")) {
+        st = rt_json_check_keys(c, obj, w, lam_keys);
+        if (!st)
+            st = colour_or_texture(c, obj, w, "albedo", 1.0, s, &col, &tex);
+        *m = type[0] == 'l' ? rt_scene_lambertian(col) : rt_scene_isotropic(col);
+    } else {
+        st = rt_json_check_keys(c, obj, w, light_keys);
+        if (!st)
+            st = colour_or_texture(c, obj, w, "emit", MAX_EMIT, s, &col, &tex);
+        const cJSON *two = cJSON_GetObjectItemCaseSensitive(obj, "two_sided");
+        if (!st && two && !cJSON_IsBool(two)) {
+            char at[200];
+            rt_json_join(at, sizeof at, w, "two_sided");
+            st = rt_json_fail(c, RT_EFORMAT, at, "expected true or false");
+        }
+        *m = rt_scene_emitter(col, !two || cJSON_IsTrue(two));
+    }
+    if (tex)
+        *m = rt_scene_textured(*m, tex - 1);
+    return st;
+}
+
+int rt_json_material(rt_json_ctx *c, const cJSON *obj, const char *w, rt_scene *s, rt_material *m)
+{
+    static const char *const lam_keys[] = {"type", "name", "albedo", NULL};
+    static const char *const metal_keys[] = {"type", "name", "albedo", "fuzz", NULL};
+    static const char *const glass_keys[] = {"type", "name", "ior", NULL};
+    int st = rt_json_need_object(c, obj, w);
     if (st)
         return st;
     char at[200];
-    join(at, sizeof at, w, "type");
+    rt_json_join(at, sizeof at, w, "type");
     const cJSON *type = cJSON_GetObjectItemCaseSensitive(obj, "type");
     if (!type)
-        return fail(c, RT_EFORMAT, at, "missing");
+        return rt_json_fail(c, RT_EFORMAT, at, "missing");
     if (!cJSON_IsString(type))
-        return fail(c, RT_EFORMAT, at, "expected a string");
+        return rt_json_fail(c, RT_EFORMAT, at, "expected a string");
+    const char *t = type->valuestring;
+    const int v2 = c->version >= 2;
     rt_vec3 albedo = rt_v3(0, 0, 0);
-    if (!strcmp(type->valuestring, "lambertian")) {
-        st = check_keys(c, obj, w, lam_keys);
+    if (v2 && (!strcmp(t, "lambertian") || !strcmp(t, "isotropic") || !strcmp(t, "emitter"))) {
+        st = parse_material2(c, obj, w, t, s, m);
+    } else if (!strcmp(t, "lambertian")) {
+        st = rt_json_check_keys(c, obj, w, lam_keys);
         if (!st)
-            st = member_vec3(c, obj, w, "albedo", 1, 0.0, 1.0, &albedo);
+            st = rt_json_member_vec3(c, obj, w, "albedo", 1, 0.0, 1.0, &albedo);
         *m = rt_scene_lambertian(albedo);
-    } else if (!strcmp(type->valuestring, "metal")) {
+    } else if (!strcmp(t, "metal")) {
         double fuzz = 0.0;
-        st = check_keys(c, obj, w, metal_keys);
+        st = rt_json_check_keys(c, obj, w, metal_keys);
         if (!st)
-            st = member_vec3(c, obj, w, "albedo", 1, 0.0, 1.0, &albedo);
+            st = rt_json_member_vec3(c, obj, w, "albedo", 1, 0.0, 1.0, &albedo);
         if (!st)
-            st = opt_number(c, obj, w, "fuzz", 0.0, 1.0, CLOSED, &fuzz);
+            st = rt_json_opt_number(c, obj, w, "fuzz", 0.0, 1.0, RT_JSON_CLOSED, &fuzz);
         *m = rt_scene_metal(albedo, fuzz);
-    } else if (!strcmp(type->valuestring, "dielectric")) {
+    } else if (!strcmp(t, "dielectric")) {
         double ior = 0.0;
-        st = check_keys(c, obj, w, glass_keys);
-        if (!st) {
-            join(at, sizeof at, w, "ior");
-            const cJSON *item = cJSON_GetObjectItemCaseSensitive(obj, "ior");
-            st = get_number_in(c, item, at, 0.0, MAX_IOR, OPEN_LO, &ior);
-        }
+        st = rt_json_check_keys(c, obj, w, glass_keys);
+        if (!st)
+            st = rt_json_req_number(c, obj, w, "ior", 0.0, MAX_IOR, RT_JSON_OPEN_LO, &ior);
         *m = rt_scene_dielectric(ior);
     } else {
         char q[48];
-        quote_key(type->valuestring, q, sizeof q);
-        return fail(c, RT_EFORMAT, at, "'%s' is not one of lambertian, metal, dielectric", q);
+        rt_json_quote(t, q, sizeof q);
+        return rt_json_fail(c, RT_EFORMAT, at, "'%s' is not one of lambertian, metal, dielectric%s", q,
+                            v2 ? ", emitter, isotropic" : "");
     }
     return st;
 }
 
-static int add_status(ctx *c, int st, const char *where)
+/* A sphere's "frame": 1 + an index into the top level's frames. */
+static int sphere_frame(rt_json_ctx *c, const cJSON *obj, const char *w, const rt_xform *x, uint32_t *frame)
 {
-    if (st == RT_EOVERFLOW)
-        return fail(c, st, where, "more than %u entries", RT_SCENE_MAX_SPHERES);
-    return st == RT_ENOMEM ? fail(c, st, where, "out of memory") : st;
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(obj, "frame");
+    char at[200];
+    rt_json_join(at, sizeof at, w, "frame");
+    *frame = 0;
+    if (!f)
+        return RT_OK;
+    if (x)
+        return rt_json_fail(c, RT_EFORMAT, at, "only at the top level (an instance makes its own frames)");
+    int st = rt_json_ref(c, f, at, "frames", c->n_frames, frame);
+    if (!st && cJSON_IsString(f))
+        return rt_json_fail(c, RT_EFORMAT, at, "expected an index into frames");
+    *frame += 1;
+    return st;
 }
 
-/* One entry of the materials table. */
-static int parse_table_material(ctx *c, const cJSON *e, const char *w, uint32_t n_table, rt_scene *s)
+int rt_json_sphere(rt_json_ctx *c, const cJSON *obj, const char *w, const rt_xform *x, int moving, rt_scene *s)
 {
-    (void)n_table;
-    rt_material m;
-    int st = parse_material(c, e, w, &m);
-    return st ? st : add_status(c, rt_scene_add_material(s, &m, NULL), "materials");
-}
-
-typedef int (*element_fn)(ctx *c, const cJSON *e, const char *where, uint32_t n_table, rt_scene *s);
-
-/* Calls fn for each element of the array arr (named key), in order. */
-static int each_element(ctx *c, const cJSON *arr, const char *key, element_fn fn, rt_scene *s)
-{
-    if (!arr)
-        return fail(c, RT_EFORMAT, key, "missing");
-    if (!cJSON_IsArray(arr))
-        return fail(c, RT_EFORMAT, key, "expected an array");
-    const uint32_t n_table = s->n_materials; /* spheres may refer to these */
-    const cJSON *e;
-    uint32_t i = 0;
-    cJSON_ArrayForEach(e, arr)
-    {
-        char w[64];
-        snprintf(w, sizeof w, "%s[%u]", key, i++);
-        int st = fn(c, e, w, n_table, s);
-        if (st)
-            return st;
-    }
-    return RT_OK;
-}
-
-static int parse_sphere(ctx *c, const cJSON *obj, const char *w, uint32_t n_table, rt_scene *s)
-{
-    static const char *const keys[] = {"center", "radius", "material", NULL};
-    int st = need_object(c, obj, w);
+    static const char *const keys1[] = {"center", "radius", "material", NULL};
+    static const char *const keys2[] = {"center", "radius", "material", "frame", NULL};
+    static const char *const keys_mov[] = {"center0", "center1", "radius", "material", "frame", NULL};
+    int st = rt_json_need_object(c, obj, w);
     if (!st)
-        st = check_keys(c, obj, w, keys);
-    rt_vec3 center;
+        st = rt_json_check_keys(c, obj, w, moving ? keys_mov : c->version == 1 ? keys1 : keys2);
+    rt_vec3 c0, c1 = rt_v3(0, 0, 0);
     double radius;
     if (!st)
-        st = member_vec3(c, obj, w, "center", 1, -MAX_COORD, MAX_COORD, &center);
+        st = rt_json_point(c, obj, w, moving ? "center0" : "center", &c0);
+    if (!st && moving)
+        st = rt_json_point(c, obj, w, "center1", &c1);
     char at[200];
-    join(at, sizeof at, w, "radius");
+    rt_json_join(at, sizeof at, w, "radius");
     if (!st)
-        st = get_number(c, cJSON_GetObjectItemCaseSensitive(obj, "radius"), at, -MAX_COORD, MAX_COORD, &radius);
+        st = rt_json_number(c, cJSON_GetObjectItemCaseSensitive(obj, "radius"), at, -RT_JSON_MAX_COORD,
+                            RT_JSON_MAX_COORD, RT_JSON_CLOSED, &radius);
     if (!st && radius == 0.0)
-        st = fail(c, RT_EFORMAT, at, "must not be 0 (a negative radius makes a hollow sphere)");
+        st = rt_json_fail(c, RT_EFORMAT, at, "must not be 0 (a negative radius makes a hollow sphere)");
+    uint32_t frame = 0, index;
+    if (!st)
+        st = sphere_frame(c, obj, w, x, &frame);
+    rt_json_join(at, sizeof at, w, "material");
+    const cJSON *mat = cJSON_GetObjectItemCaseSensitive(obj, "material");
+    if (!st && !mat)
+        st = rt_json_fail(c, RT_EFORMAT, at, "missing");
+    if (!st && !cJSON_IsNumber(mat) && !cJSON_IsObject(mat) && (c->version == 1 || !cJSON_IsString(mat)))
+        st = rt_json_fail(c, RT_EFORMAT, at, "expected an index into materials%s or a material object",
+                          c->version == 1 ? "" : ", a name");
+    if (!st)
+        st = rt_json_material_ref(c, mat, at, s, &index);
     if (st)
         return st;
-    join(at, sizeof at, w, "material");
-    const cJSON *mat = cJSON_GetObjectItemCaseSensitive(obj, "material");
-    uint32_t index;
-    if (!mat)
-        return fail(c, RT_EFORMAT, at, "missing");
-    if (cJSON_IsNumber(mat)) {
-        double v = mat->valuedouble;
-        if (!(v >= 0 && v < (double)n_table && v == floor(v))) {
-            if (n_table == 0)
-                return fail(c, RT_EFORMAT, at, "%.17g is not an index into materials (there are none)", v);
-            return fail(c, RT_EFORMAT, at, "%.17g is not an index into materials (0 to %u)", v, n_table - 1);
-        }
-        index = (uint32_t)v;
-    } else if (cJSON_IsObject(mat)) {
-        rt_material m;
-        st = parse_material(c, mat, at, &m);
-        if (!st)
-            st = add_status(c, rt_scene_add_material(s, &m, &index), "materials");
-        if (st)
-            return st;
-    } else {
-        return fail(c, RT_EFORMAT, at, "expected an index into materials or a material object");
+    if (moving) {
+        st = rt_json_add_status(c, rt_scene_add_mover(s, c0, c1, radius, index, x), w);
+        if (!st && frame)
+            s->shapes.movers.items[s->shapes.movers.n - 1].frame = frame;
+        return st;
     }
-    return add_status(c, rt_scene_add_sphere(s, center, radius, index), "spheres");
+    st = rt_json_add_status(c, x ? rt_scene_add_sphere_x(s, c0, radius, index, x)
+                                 : rt_scene_add_sphere(s, c0, radius, index),
+                            "spheres");
+    if (!st && frame)
+        s->spheres[s->n_spheres - 1].frame = frame;
+    return st;
 }
 
-static int parse_root(ctx *c, const cJSON *root, rt_scene *s)
+static int table_material(rt_json_ctx *c, const cJSON *e, const char *w, const rt_xform *x, int depth,
+                          rt_scene *s)
 {
-    static const char *const keys[] = {"version", "camera", "background", "materials", "spheres", NULL};
-    if (!cJSON_IsObject(root))
-        return fail(c, RT_EFORMAT, "", "expected a JSON object at the top level");
-    int st = check_keys(c, root, "", keys);
-    const cJSON *version = cJSON_GetObjectItemCaseSensitive(root, "version");
-    if (!st && version && !(cJSON_IsNumber(version) && version->valuedouble == RT_SCENE_JSON_VERSION))
-        st = fail(c, RT_EFORMAT, "version", "this program reads version %d only", RT_SCENE_JSON_VERSION);
+    (void)x;
+    (void)depth;
+    rt_material m;
+    int st = rt_json_material(c, e, w, s, &m);
+    const cJSON *name = cJSON_GetObjectItemCaseSensitive(e, "name");
+    if (!st && name && !cJSON_IsString(name)) {
+        char at[200];
+        rt_json_join(at, sizeof at, w, "name");
+        st = rt_json_fail(c, RT_EFORMAT, at, "expected a string");
+    }
+    return st ? st : rt_json_add_status(c, rt_scene_add_material(s, &m, NULL), "materials");
+}
+
+static int book1_sphere(rt_json_ctx *c, const cJSON *e, const char *w, const rt_xform *x, int depth, rt_scene *s)
+{
+    (void)depth;
+    return rt_json_sphere(c, e, w, x, 0, s);
+}
+
+/* "noise_seed": an integer to 2^53, or a string of decimal digits. */
+static int parse_noise_seed(rt_json_ctx *c, const cJSON *item, rt_scene *s)
+{
+    if (cJSON_IsString(item)) {
+        const char *p = item->valuestring;
+        char *end;
+        errno = 0;
+        unsigned long long v = strtoull(p, &end, 10);
+        if (*p < '0' || *p > '9' || *end || errno)
+            return rt_json_fail(c, RT_EFORMAT, "noise_seed", "expected an integer from 0 to 2^64 - 1");
+        s->tex.noise_seed = v;
+        return RT_OK;
+    }
+    double v;
+    int st = rt_json_number(c, item, "noise_seed", 0, 9007199254740992.0, RT_JSON_CLOSED, &v);
+    if (!st && v != floor(v))
+        st = rt_json_fail(c, RT_EFORMAT, "noise_seed", "expected an integer");
     if (!st)
-        st = parse_camera(c, cJSON_GetObjectItemCaseSensitive(root, "camera"), &s->camera);
-    const cJSON *bg = cJSON_GetObjectItemCaseSensitive(root, "background");
-    if (!st && bg)
-        st = parse_background(c, bg, s);
-    const cJSON *mats = cJSON_GetObjectItemCaseSensitive(root, "materials");
-    if (!st && mats)
-        st = each_element(c, mats, "materials", parse_table_material, s);
-    if (!st)
-        st = each_element(c, cJSON_GetObjectItemCaseSensitive(root, "spheres"), "spheres", parse_sphere, s);
+        s->tex.noise_seed = (uint64_t)v;
     return st;
+}
+
+static int parse_root(rt_json_ctx *c, const cJSON *root, rt_scene *s)
+{
+    static const char *const keys1[] = {"version", "camera", "background", "materials", "spheres", NULL};
+    static const char *const keys2[] = {"version",  "camera", "background", "noise_seed", "textures", "materials",
+                                        "frames",   "groups", "spheres",    "moving_spheres", "quads", "boxes",
+                                        "media",    "instances", NULL};
+    if (!cJSON_IsObject(root))
+        return rt_json_fail(c, RT_EFORMAT, "", "expected a JSON object at the top level");
+    const cJSON *version = cJSON_GetObjectItemCaseSensitive(root, "version");
+    c->version = 1;
+    if (version && cJSON_IsNumber(version) && version->valuedouble == 2)
+        c->version = 2;
+    int st = rt_json_check_keys(c, root, "", c->version == 1 ? keys1 : keys2);
+    if (!st && version && !(cJSON_IsNumber(version) && (version->valuedouble == 1 || version->valuedouble == 2)))
+        st = rt_json_fail(c, RT_EFORMAT, "version", "this program reads versions 1 and 2");
+    if (!st)
+        st = parse_camera(c, cJSON_GetObjectItemCaseSensitive(root, "camera"), c->version, &s->camera);
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(root, "background");
+    if (!st && item)
+        st = parse_background(c, item, c->version, s);
+    item = cJSON_GetObjectItemCaseSensitive(root, "noise_seed");
+    if (!st && item)
+        st = parse_noise_seed(c, item, s);
+    item = cJSON_GetObjectItemCaseSensitive(root, "textures");
+    if (!st && item)
+        st = rt_json_textures(c, item, s);
+    item = cJSON_GetObjectItemCaseSensitive(root, "materials");
+    if (!st && item)
+        st = rt_json_each(c, item, "", "materials", table_material, NULL, 0, s);
+    c->n_table = s->n_materials; /* objects refer to these; their inline materials come after */
+    item = cJSON_GetObjectItemCaseSensitive(root, "frames");
+    if (!st && item)
+        st = rt_json_frames(c, item, s);
+    c->n_frames = s->shapes.frames.n;
+    if (c->version == 1) { /* spheres only, and required */
+        const cJSON *spheres = cJSON_GetObjectItemCaseSensitive(root, "spheres");
+        if (!st && !spheres)
+            st = rt_json_fail(c, RT_EFORMAT, "spheres", "missing");
+        return st ? st : rt_json_each(c, spheres, "", "spheres", book1_sphere, NULL, 0, s);
+    }
+    return st ? st : rt_json_objects(c, root, "", NULL, 0, s);
 }
 
 static void line_col(const char *text, size_t len, size_t pos, unsigned *line, unsigned *col)
@@ -389,9 +393,11 @@ static void line_col(const char *text, size_t len, size_t pos, unsigned *line, u
     }
 }
 
-int rt_scene_json_parse(rt_scene *s, const char *text, size_t len, const char *name, char *err, size_t errlen)
+int rt_scene_json_parse(rt_scene *s, const char *text, size_t len, const char *name, const char *dir,
+                        rt_scene_files *files, char *err, size_t errlen)
 {
-    ctx c = {name, err, errlen};
+    rt_scene_files own = {NULL, 0, 0};
+    rt_json_ctx c = {.name = name, .err = err, .errlen = errlen, .dir = dir, .files = files ? files : &own};
     rt_scene_init(s);
     if (errlen)
         err[0] = 0;
@@ -410,163 +416,49 @@ int rt_scene_json_parse(rt_scene *s, const char *text, size_t len, const char *n
         line_col(text, len, pos, &line, &col);
         char where[64];
         snprintf(where, sizeof where, "line %u, column %u", line, col);
-        int st = fail(&c, RT_EFORMAT, where, !len ? "empty file" : root ? "unexpected text after the JSON value"
-                                                                         : "invalid JSON");
+        int st = rt_json_fail(&c, RT_EFORMAT, where,
+                              !len ? "empty file" : root ? "unexpected text after the JSON value" : "invalid JSON");
         cJSON_Delete(root);
         return st;
     }
+    c.root = root;
     int st = parse_root(&c, root, s);
     cJSON_Delete(root);
-    if (st)
+    if (st) {
         rt_scene_free(s);
+        rt_scene_files_free(c.files);
+    }
+    rt_scene_files_free(&own);
     return st;
 }
 
-int rt_scene_json_load(rt_scene *s, const char *path, char *err, size_t errlen)
+int rt_scene_json_load(rt_scene *s, const char *path, rt_scene_files *files, char *err, size_t errlen)
 {
-    ctx c = {path, err, errlen};
+    rt_json_ctx c = {.name = path, .err = err, .errlen = errlen};
     rt_scene_init(s); /* valid (empty) also when the file cannot be read */
     char *buf;
     size_t n;
     int st = rt_file_read_all(path, RT_SCENE_JSON_MAX_BYTES, &buf, &n);
     if (st == RT_EOVERFLOW)
-        return fail(&c, st, "", "larger than %u MiB", RT_SCENE_JSON_MAX_BYTES >> 20);
+        return rt_json_fail(&c, st, "", "larger than %u MiB", RT_SCENE_JSON_MAX_BYTES >> 20);
     if (st == RT_EIO)
-        return fail(&c, st, "", "cannot read: %s", strerror(errno));
+        return rt_json_fail(&c, st, "", "cannot read: %s", strerror(errno));
     if (st)
-        return fail(&c, st, "", "%s", rt_status_str(st));
-    st = rt_scene_json_parse(s, buf, n, path, err, errlen);
+        return rt_json_fail(&c, st, "", "%s", rt_status_str(st));
+    /* image paths are relative to the file's directory */
+    char *dir = malloc(strlen(path) + 2);
+    if (!dir) {
+        free(buf);
+        return rt_json_fail(&c, RT_ENOMEM, "", "out of memory");
+    }
+    strcpy(dir, path);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[slash == dir] = 0; /* "/a.json" -> "/" */
+    else
+        strcpy(dir, ".");
+    st = rt_scene_json_parse(s, buf, n, path, dir, files, err, errlen);
+    free(dir);
     free(buf);
-    return st;
-}
-
-/* ---- writing ---------------------------------------------------------- */
-
-typedef struct sbuf {
-    char *p;
-    size_t len, cap;
-    int oom;
-} sbuf;
-
-static void put(sbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void put(sbuf *b, const char *fmt, ...)
-{
-    if (b->oom)
-        return;
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        int n = vsnprintf(b->p + b->len, b->cap - b->len, fmt, ap);
-        va_end(ap);
-        if (n < 0) {
-            b->oom = 1;
-            return;
-        }
-        if ((size_t)n < b->cap - b->len) {
-            b->len += (size_t)n;
-            return;
-        }
-        if (rt_array_reserve((void **)&b->p, &b->cap, b->len + (size_t)n + 1, 1) != RT_OK) {
-            b->oom = 1;
-            return;
-        }
-    }
-}
-
-/* prefix, then d with the fewest "%.*g" digits that read back to exactly
- * d: as exact as "%.17g" but 0.1 stays "0.1", so dumps remain readable
- * and editable. Whole numbers are written whole (20, not 2e+01). */
-static void put_num(sbuf *b, const char *prefix, double d)
-{
-    char tmp[40];
-    if (d == floor(d) && fabs(d) < 1e15) {
-        snprintf(tmp, sizeof tmp, "%.0f", d);
-    } else {
-        /* "%.15g" already drops trailing zeros, so it is the shortest form
-         * whenever one of 15 digits or fewer exists; only subnormals need the
-         * search from 1 digit up. */
-        int first = fabs(d) < DBL_MIN ? 1 : 15;
-        for (int prec = first; prec <= 17; prec++) {
-            snprintf(tmp, sizeof tmp, "%.*g", prec, d);
-            double back = strtod(tmp, NULL);
-            if (memcmp(&back, &d, sizeof d) == 0)
-                break;
-        }
-    }
-    put(b, "%s%s", prefix, tmp);
-}
-
-static void put_vec(sbuf *b, const char *prefix, rt_vec3 v)
-{
-    put_num(b, prefix, v.x);
-    put_num(b, ", ", v.y);
-    put_num(b, ", ", v.z);
-    put(b, "]");
-}
-
-int rt_scene_json_format(const rt_scene *s, char **text, size_t *len)
-{
-    if (rt_scene_is_book2(s)) /* the file format does not hold book 2's content yet */
-        return RT_EUNSUPPORTED;
-    sbuf b = {.p = malloc(4096), .cap = 4096};
-    if (!b.p)
-        return RT_ENOMEM;
-    const rt_camera_desc *c = &s->camera;
-    put(&b, "{\n  \"version\": %d,\n  \"camera\": {\n", RT_SCENE_JSON_VERSION);
-    put_vec(&b, "    \"lookfrom\": [", c->lookfrom);
-    put_vec(&b, ",\n    \"lookat\": [", c->lookat);
-    put_vec(&b, ",\n    \"vup\": [", c->vup);
-    put_num(&b, ",\n    \"vfov\": ", c->vfov_deg);
-    put_num(&b, ",\n    \"aperture\": ", c->aperture);
-    put_num(&b, ",\n    \"focus_dist\": ", c->focus_dist);
-    put_vec(&b, "\n  },\n  \"background\": {\"bottom\": [", s->sky_bottom);
-    put_vec(&b, ", \"top\": [", s->sky_top);
-    put(&b, "},\n  \"materials\": [");
-    for (uint32_t i = 0; i < s->n_materials; i++) {
-        const rt_material *m = &s->materials[i];
-        put(&b, "%s\n    {\"type\": ", i ? "," : "");
-        if (m->kind == RT_MAT_DIELECTRIC) {
-            put_num(&b, "\"dielectric\", \"ior\": ", m->ior);
-        } else {
-            put_vec(&b, m->kind == RT_MAT_METAL ? "\"metal\", \"albedo\": [" : "\"lambertian\", \"albedo\": [",
-                    m->albedo);
-            if (m->kind == RT_MAT_METAL)
-                put_num(&b, ", \"fuzz\": ", m->fuzz);
-        }
-        put(&b, "}");
-    }
-    put(&b, "%s],\n  \"spheres\": [", s->n_materials ? "\n  " : "");
-    for (uint32_t i = 0; i < s->n_spheres; i++) {
-        const rt_sphere *sp = &s->spheres[i];
-        put_vec(&b, i ? ",\n    {\"center\": [" : "\n    {\"center\": [", sp->center);
-        put_num(&b, ", \"radius\": ", sp->radius);
-        put(&b, ", \"material\": %u}", sp->material);
-    }
-    put(&b, "%s]\n}\n", s->n_spheres ? "\n  " : "");
-    if (b.oom) {
-        free(b.p);
-        return RT_ENOMEM;
-    }
-    *text = b.p;
-    *len = b.len;
-    return RT_OK;
-}
-
-int rt_scene_json_dump(const rt_scene *s, const char *path)
-{
-    char *text;
-    size_t len;
-    int st = rt_scene_json_format(s, &text, &len);
-    if (st)
-        return st;
-    rt_atomic_file f;
-    st = rt_atomic_open(&f, path);
-    if (!st) {
-        /* a short write leaves ferror set: commit reports it (full disk
-         * included) and removes the temporary file */
-        (void)fwrite(text, 1, len, f.fp);
-        st = rt_atomic_commit(&f);
-    }
-    free(text);
     return st;
 }

@@ -3,19 +3,32 @@
 #include "scene_json.h"
 
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "status.h"
 
-int rt_scene_json_load(rt_scene *s, const char *path, char *err, size_t errlen)
+int rt_scene_files_add(rt_scene_files *f, const char *path)
+{
+    (void)f;
+    (void)path;
+    return RT_OK; /* no dumps in this build: nothing refers to the files */
+}
+
+void rt_scene_files_free(rt_scene_files *f) { memset(f, 0, sizeof *f); }
+
+int rt_scene_json_load(rt_scene *s, const char *path, rt_scene_files *files, char *err, size_t errlen)
 {
     (void)s;
+    (void)files;
     snprintf(err, errlen, "%s: this build of rt-mpi reads no scene files (built without cJSON)", path);
     return RT_EUNSUPPORTED;
 }
 
-int rt_scene_json_dump(const rt_scene *s, const char *path)
+int rt_scene_json_dump(const rt_scene *s, const rt_scene_files *files, const char *path)
 {
     (void)s;
+    (void)files;
     (void)path;
     return RT_EUNSUPPORTED;
 }

@@ -27,8 +27,25 @@ done
 # The book's settings are the scene's defaults; a width alone keeps its aspect.
 check_eq "cornell-box's own size, samples and depth" "$(sed -n 's/^image: *//p' "$WORK/cornell-box.out")" \
     "40x40, 4 spp, max depth 50, seed 42"
-"$BIN" --scene book2-final "${T[@]}" --dump-scene "$WORK/x.json" 2>"$WORK/d.err"
-check_eq "--dump-scene of a book-2 scene: exit status" $? 2
+# Every scene dumped: dump -> load -> dump is byte-identical, and the dump
+# renders the same scene (hash) and the same image as the named scene; the
+# earth's image is referred to by a path relative to the dump.
+mkdir -p "$WORK/dumps"
+hash_of() { sed -n "s/^$2: *//p" "$1" | sed 's/.*hash //'; }
+for s in bouncing-spheres checkered-spheres earth perlin-spheres quads simple-light cornell-box cornell-smoke \
+    book2-final; do
+    D="$WORK/dumps/$s.json" A=(--width 24 --height 16 -s 2 --max-depth 6 -j 2 -q)
+    "$BIN" --scene $s "${T[@]}" --dump-scene "$D" 2>"$WORK/d.err" || { fail "$s --dump-scene: $(cat "$WORK/d.err")"; continue; }
+    (cd "$WORK/dumps" && "$BIN" --scene-file "$s.json" --dump-scene "$s.2.json") 2>"$WORK/d.err"
+    cmp -s "$D" "$WORK/dumps/$s.2.json" && pass "$s: dump -> load -> dump byte-identical" ||
+        fail "$s: the second dump differs $(cat "$WORK/d.err")"
+    "$BIN" --scene $s "${T[@]}" "${A[@]}" -o "$WORK/n.png" >"$WORK/n.out" 2>&1
+    "$BIN" --scene-file "$D" "${A[@]}" -o "$WORK/f.png" >"$WORK/f.out" 2>&1
+    check_eq "$s from its dump: scene hash" "$(hash_of "$WORK/f.out" scene)" "$(hash_of "$WORK/n.out" scene)"
+    check_eq "$s from its dump: image hash" "$(hash_of "$WORK/f.out" "image hash")" "$(hash_of "$WORK/n.out" "image hash")"
+done
+grep -q '"path": "../earthmap.jpg"' "$WORK/dumps/earth.json" && pass "the earth's dump refers to ../earthmap.jpg" ||
+    fail "earth.json: $(grep path "$WORK/dumps/earth.json")"
 
 # One image, many ways to cut the work: every result has the same pixels.
 same_as() { # label ref.png cmd...
@@ -81,4 +98,24 @@ expect_usage_error "earth: not an image" "bad/earthmap.jpg: not a PNG or JPEG fi
 head -c 300 "$WORK/earthmap.jpg" >"$WORK/bad/earthmap.jpg"
 expect_usage_error "earth: truncated JPEG" "bad/earthmap.jpg: image file is truncated" \
     "$BIN" --scene earth --texture-dir "$WORK/bad" --width 32 -s 1 -o "$WORK/out/e.png"
+
+# Scene files with hostile images: one line naming the scene file, the field
+# and the image, exit status 2, no image written.
+/usr/bin/python3 -c "
+from PIL import Image
+import zlib
+Image.new('CMYK', (8, 8), (0, 50, 100, 0)).save('$WORK/bad/cmyk.jpg')
+Image.new('RGB', (8, 8)).save('$WORK/bad/ok.png')
+b = bytearray(open('$WORK/bad/ok.png', 'rb').read())
+b[b.index(b'IDAT') + 6] ^= 0xFF
+open('$WORK/bad/crc.png', 'wb').write(bytes(b))" ||
+    fail "could not write the hostile images"
+for c in "cmyk.jpg:CMYK JPEG is not supported" "crc.png:PNG chunk with a bad CRC" "missing.png:no such file"; do
+    f=${c%%:*}
+    printf '{"version": 2, "camera": {"lookfrom": [0, 0, 9], "lookat": [0, 0, 0]}, "textures": [{"type": "image", "path": "%s"}]}' \
+        "$f" >"$WORK/bad/$f.json"
+    expect_usage_error "scene file with $f" "bad/$f.json: textures\[0\].path: .*bad/$f: ${c#*:}" \
+        "$BIN" --scene-file "$WORK/bad/$f.json" --width 8 -s 1 -o "$WORK/out/img.png"
+done
+[ ! -e "$WORK/out/img.png" ] && pass "no image written for a bad texture" || fail "an image was written"
 finish
