@@ -1,0 +1,144 @@
+/* world_traverse.h - the world's closest-hit traversal, included by
+ * world_closest.c once per instruction set: it defines WTRAVERSE (the
+ * function's name), with the AVX box test when WTRAV_AVX is 1, else the SSE2
+ * one (when the build has SSE2 and the argument `simd` is 1) or the portable
+ * one. Not a header to include anywhere else.
+ *
+ * The same walk as the spheres' tree (bvh_traverse.h): ordered depth-first,
+ * the nearest child hit next, the others pushed far to near with their
+ * entry distance, popped entries beyond the closest hit so far dropped; box
+ * planes chosen once per ray by the direction's signs. The three box tests
+ * do the same float operations in the same order, so they visit the same
+ * leaves; the leaves' tests are in double (world_internal.h) and their rule
+ * does not depend on the order, so every variant and brute force agree. */
+
+static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, const rt_ray *ray, double time,
+                                                            double tmin, double *best_t, uint32_t *best,
+                                                            const int simd)
+{
+    const double a = rt_v3_len2(ray->dir);
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+    const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
+    const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz; /* rows of bmin then bmax, as float[6][WWIDTH] */
+    const int fx = 3 - nx, fy = 5 - ny, fz = 7 - nz;
+    const float tmin_f = near_bound(tmin);
+    float tfar_f = far_bound(*best_t);
+#if WTRAV_AVX
+    (void)simd;
+    const __m256 ox = _mm256_set1_ps(fo[0]), oy = _mm256_set1_ps(fo[1]), oz = _mm256_set1_ps(fo[2]);
+    const __m256 ix = _mm256_set1_ps(fi[0]), iy = _mm256_set1_ps(fi[1]), iz = _mm256_set1_ps(fi[2]);
+    const __m256 vtmin = _mm256_set1_ps(tmin_f);
+#elif RT_BVH_HAVE_SSE2
+    const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
+    const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
+    const __m128 vtmin = _mm_set1_ps(tmin_f);
+#else
+    (void)simd;
+#endif
+    int32_t stack_node[WSTACK];
+    float stack_t[WSTACK];
+    int sp = 0;
+    int32_t code = 0;
+    for (;;) {
+        if (code < 0) {
+            const uint32_t v = ~(uint32_t)code, first = v >> 4, end = first + (v & 15u) + 1;
+            int any = 0;
+            for (uint32_t k = first; k < end; k++)
+                any |= rt_world_test_item(w, w->items[k], ray, a, time, tmin, best_t, best);
+            if (any)
+                tfar_f = far_bound(*best_t);
+        } else {
+            const wide *n = &w->nodes[code];
+            const float(*rows)[WWIDTH] = (const float(*)[WWIDTH])n->bmin;
+            float tn[WWIDTH];
+            int mask;
+#if WTRAV_AVX
+            {
+                __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nx]), ox), ix);
+                __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[ny]), oy), iy);
+                __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nz]), oz), iz);
+                __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fx]), ox), ix);
+                __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fy]), oy), iy);
+                __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fz]), oz), iz);
+                __m256 vn = _mm256_max_ps(_mm256_max_ps(tnx, tny), _mm256_max_ps(tnz, vtmin));
+                __m256 vf = _mm256_min_ps(_mm256_min_ps(tfx, tfy), _mm256_min_ps(tfz, _mm256_set1_ps(tfar_f)));
+                mask = _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ)) & n->nchild;
+                _mm256_storeu_ps(tn, vn);
+            }
+#else
+#if RT_BVH_HAVE_SSE2
+            if (simd) {
+                mask = 0;
+                for (int h = 0; h < WWIDTH; h += 4) {
+                    __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx] + h), ox), ix);
+                    __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny] + h), oy), iy);
+                    __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz] + h), oz), iz);
+                    __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx] + h), ox), ix);
+                    __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy] + h), oy), iy);
+                    __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz] + h), oz), iz);
+                    __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
+                    __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
+                    mask |= _mm_movemask_ps(_mm_cmple_ps(vn, vf)) << h;
+                    _mm_storeu_ps(tn + h, vn);
+                }
+                mask &= n->nchild;
+            } else
+#endif
+            {
+                mask = 0;
+                for (int k = 0; k < WWIDTH; k++) {
+                    float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
+                    float t2 = (rows[nz][k] - fo[2]) * fi[2];
+                    float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
+                    float u2 = (rows[fz][k] - fo[2]) * fi[2];
+                    float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
+                    near = t2 > near ? t2 : near;
+                    near = tmin_f > near ? tmin_f : near;
+                    far = u2 < far ? u2 : far;
+                    far = tfar_f < far ? tfar_f : far;
+                    tn[k] = near;
+                    mask |= (near <= far) << k;
+                }
+                mask &= n->nchild;
+            }
+#endif
+            if (mask) {
+                int c0 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* one child: go straight on */
+                    code = n->child[c0];
+                    continue;
+                }
+                /* more: by entry distance, far first, onto the stack; the nearest next */
+                int32_t cc[WWIDTH];
+                float ct[WWIDTH];
+                int m = 0;
+                for (int left = mask | (1 << c0); left; left &= left - 1) {
+                    int k = __builtin_ctz(left), j = m++;
+                    while (j > 0 && ct[j - 1] < tn[k]) {
+                        ct[j] = ct[j - 1];
+                        cc[j] = cc[j - 1];
+                        j--;
+                    }
+                    ct[j] = tn[k];
+                    cc[j] = n->child[k];
+                }
+                for (int q = 0; q < m - 1; q++) {
+                    stack_node[sp] = cc[q];
+                    stack_t[sp++] = ct[q];
+                }
+                code = cc[m - 1];
+                continue;
+            }
+        }
+        for (;;) { /* pop the next entry that can still hold a closer hit */
+            if (sp == 0)
+                return 0;
+            sp--;
+            if (stack_t[sp] <= tfar_f)
+                break;
+        }
+        code = stack_node[sp];
+    }
+}
