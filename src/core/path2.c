@@ -53,7 +53,7 @@ static void start2(const p2 *c, uint32_t sample, path *p, double *time)
 static int closest2(const p2 *c, const rt_ray *ray, double time, rt_whit *h)
 {
     rt_hit sh;
-    const int f = rt_accel_closest(c->r->accel, ray, T_MIN, INFINITY, &sh);
+    const int f = c->s->n_spheres && rt_accel_closest(c->r->accel, ray, T_MIN, INFINITY, &sh);
     if (rt_world_closest(c->w, ray, time, T_MIN, f ? sh.t : INFINITY, h))
         return 1;
     if (!f)
