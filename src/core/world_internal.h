@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "fbox.h"
 #include "scene.h"
 #include "sphere.h"
 #include "texture.h"
@@ -21,7 +22,7 @@ typedef struct quad_x {
     double d;
 } quad_x;
 
-#define WWIDTH 8 /* children of a node: one AVX register of floats, two SSE2 ones */
+#define WWIDTH FBOX_WIDTH
 
 /* A node of the wide tree: its children's boxes in float, rounded outward
  * (fbox.h), rows x, y, z; a child is a node (code >= 0) or a leaf of items
