@@ -23,6 +23,21 @@ struct rt_accel {
     rt_world *world;
 };
 
+/* The world's traversal for the spheres' one: the same box test. */
+static rt_world_mode world_mode(rt_accel_kind kind)
+{
+    switch (kind) {
+    case RT_ACCEL_BRUTE:
+        return RT_WORLD_BRUTE;
+    case RT_ACCEL_BVH_SSE:
+        return RT_WORLD_BVH_SSE;
+    case RT_ACCEL_BVH_SCALAR:
+        return RT_WORLD_BVH_SCALAR;
+    default:
+        return RT_WORLD_BVH;
+    }
+}
+
 int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
 {
     *out = NULL;
@@ -51,7 +66,7 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
         st = RT_EINVAL;
     }
     if (!st && rt_scene_is_book2(s))
-        st = rt_world_build(&a->world, s, kind == RT_ACCEL_BRUTE);
+        st = rt_world_build(&a->world, s, world_mode(kind));
     if (st) {
         rt_accel_free(a);
         return st;

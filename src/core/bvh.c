@@ -20,6 +20,7 @@
  * ray that hits it starts the traversal with that hit as its bound. */
 #include "bvh_node.h"
 #include "core_internal.h"
+#include "fbox.h"
 
 #include <float.h>
 #include <math.h>
@@ -51,36 +52,12 @@ static inline int test_spheres(const prim *p, uint32_t count, const rt_ray *ray,
     return any;
 }
 
-/* 1 when f's sign bit is set (f < 0 for the nonzero values of safe_inv). */
-static inline int sign_bit(float f)
-{
-    uint32_t u;
-    memcpy(&u, &f, sizeof u);
-    return (int)(u >> 31);
-}
-
-/* The float bounds of the box tests around the double interval (tmin,
- * closest): a little wider, so that a box the exact interval enters is never
- * culled by float rounding. INFINITY stays INFINITY. */
-#define TMIN_SHRINK 0.999f
-#define TFAR_GROW 1.0001f
-static inline float near_bound(double tmin) { return (float)tmin * TMIN_SHRINK; }
-static inline float far_bound(double closest) { return (float)closest * TFAR_GROW; }
-
 /* A leaf's spheres: the child code's start and count. */
 static inline const prim *leaf_prims(const rt_bvh *b, int32_t code, uint32_t *count)
 {
     uint32_t v = ~(uint32_t)code;
     *count = (v & 15u) + 1;
     return b->prims + (v >> 4);
-}
-
-static inline float safe_inv(double d)
-{
-    float f = (float)d;
-    if (fabsf(f) < 1e-30f)
-        f = f < 0 ? -1e-30f : 1e-30f;
-    return 1.0f / f;
 }
 
 /* The traversal, once per instruction set: bvh_traverse.h holds its body.

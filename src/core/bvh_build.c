@@ -4,6 +4,7 @@
  * tree. */
 #include "bvh_node.h"
 #include "core_internal.h"
+#include "fbox.h"
 
 #include <float.h>
 #include <math.h>
@@ -250,17 +251,6 @@ static int build_rec(builder *B, uint32_t start, uint32_t count, int depth)
     B->n[id].left = l;
     B->n[id].right = r;
     return id;
-}
-
-static float round_down(double v, double margin)
-{
-    float f = (float)(v - margin);
-    return (double)f > v - margin ? nextafterf(f, -INFINITY) : f;
-}
-static float round_up(double v, double margin)
-{
-    float f = (float)(v + margin);
-    return (double)f < v + margin ? nextafterf(f, INFINITY) : f;
 }
 
 typedef struct collapser {

@@ -6,8 +6,9 @@
 #include <stdint.h>
 
 #include "bvh.h"
+#include "fbox.h"
 
-#define WIDTH 8 /* children per node: one AVX register, two SSE2 ones */
+#define WIDTH FBOX_WIDTH /* children per node: one AVX register, two SSE2 ones */
 
 /* Spheres per leaf, at most. One: in an 8-wide tree a leaf takes a child
  * slot, not a node of its own, and one sphere's box is the tightest cull

@@ -26,17 +26,15 @@ static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const
      * random, and a mispredicted branch costs more than the arithmetic. */
     const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
     const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz;
-    const int fx = 3 - nx, fy = 5 - ny, fz = 7 - nz;
+    const int rws[6] = {nx, ny, nz, 3 - nx, 5 - ny, 7 - nz}; /* the near planes' rows, then the far ones' */
     const float tmin_f = near_bound(tmin);
 #if TRAV_AVX
     (void)simd;
-    const __m256 ox = _mm256_set1_ps(fo[0]), oy = _mm256_set1_ps(fo[1]), oz = _mm256_set1_ps(fo[2]);
-    const __m256 ix = _mm256_set1_ps(fi[0]), iy = _mm256_set1_ps(fi[1]), iz = _mm256_set1_ps(fi[2]);
-    const __m256 vtmin = _mm256_set1_ps(tmin_f);
+    const fbox_ray8 vr = {_mm256_set1_ps(fo[0]), _mm256_set1_ps(fo[1]), _mm256_set1_ps(fo[2]), _mm256_set1_ps(fi[0]),
+                          _mm256_set1_ps(fi[1]), _mm256_set1_ps(fi[2]), _mm256_set1_ps(tmin_f)};
 #elif RT_BVH_HAVE_SSE2
-    const __m128 ox = _mm_set1_ps(fo[0]), oy = _mm_set1_ps(fo[1]), oz = _mm_set1_ps(fo[2]);
-    const __m128 ix = _mm_set1_ps(fi[0]), iy = _mm_set1_ps(fi[1]), iz = _mm_set1_ps(fi[2]);
-    const __m128 vtmin = _mm_set1_ps(tmin_f);
+    const fbox_ray4 vr = {_mm_set1_ps(fo[0]), _mm_set1_ps(fo[1]), _mm_set1_ps(fo[2]), _mm_set1_ps(fi[0]),
+                          _mm_set1_ps(fi[1]), _mm_set1_ps(fi[2]), _mm_set1_ps(tmin_f)};
 #else
     (void)simd;
 #endif
@@ -61,55 +59,13 @@ static inline __attribute__((always_inline)) int TRAVERSE(const rt_bvh *b, const
             float tn[WIDTH];
             int mask;
 #if TRAV_AVX
-            {
-                __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nx]), ox), ix);
-                __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[ny]), oy), iy);
-                __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[nz]), oz), iz);
-                __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fx]), ox), ix);
-                __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fy]), oy), iy);
-                __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[fz]), oz), iz);
-                __m256 vn = _mm256_max_ps(_mm256_max_ps(tnx, tny), _mm256_max_ps(tnz, vtmin));
-                __m256 vf = _mm256_min_ps(_mm256_min_ps(tfx, tfy), _mm256_min_ps(tfz, _mm256_set1_ps(tfar_f)));
-                mask = _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ)) & n->nchild;
-                _mm256_storeu_ps(tn, vn);
-            }
+            mask = fbox_avx(rows, rws, &vr, tfar_f, tn);
+#elif RT_BVH_HAVE_SSE2
+            mask = simd ? fbox_sse(rows, rws, &vr, tfar_f, tn) : fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
 #else
-#if RT_BVH_HAVE_SSE2
-            if (simd) {
-                mask = 0;
-                for (int h = 0; h < WIDTH; h += 4) {
-                    __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nx] + h), ox), ix);
-                    __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[ny] + h), oy), iy);
-                    __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[nz] + h), oz), iz);
-                    __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fx] + h), ox), ix);
-                    __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fy] + h), oy), iy);
-                    __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[fz] + h), oz), iz);
-                    __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, vtmin));
-                    __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
-                    mask |= _mm_movemask_ps(_mm_cmple_ps(vn, vf)) << h;
-                    _mm_storeu_ps(tn + h, vn);
-                }
-                mask &= n->nchild;
-            } else
+            mask = fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
 #endif
-            {
-                mask = 0;
-                for (int k = 0; k < WIDTH; k++) {
-                    float t0 = (rows[nx][k] - fo[0]) * fi[0], t1 = (rows[ny][k] - fo[1]) * fi[1];
-                    float t2 = (rows[nz][k] - fo[2]) * fi[2];
-                    float u0 = (rows[fx][k] - fo[0]) * fi[0], u1 = (rows[fy][k] - fo[1]) * fi[1];
-                    float u2 = (rows[fz][k] - fo[2]) * fi[2];
-                    float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
-                    near = t2 > near ? t2 : near;
-                    near = tmin_f > near ? tmin_f : near;
-                    far = u2 < far ? u2 : far;
-                    far = tfar_f < far ? tfar_f : far;
-                    tn[k] = near;
-                    mask |= (near <= far) << k;
-                }
-                mask &= n->nchild;
-            }
-#endif
+            mask &= n->nchild;
             if (mask) {
                 int c0 = __builtin_ctz(mask);
                 mask &= mask - 1;

@@ -53,7 +53,7 @@ static void start2(const p2 *c, uint32_t sample, path *p, double *time)
 static int closest2(const p2 *c, const rt_ray *ray, double time, rt_whit *h)
 {
     rt_hit sh;
-    const int f = rt_accel_closest(c->r->accel, ray, T_MIN, INFINITY, &sh);
+    const int f = c->s->n_spheres && rt_accel_closest(c->r->accel, ray, T_MIN, INFINITY, &sh);
     if (rt_world_closest(c->w, ray, time, T_MIN, f ? sh.t : INFINITY, h))
         return 1;
     if (!f)
@@ -91,6 +91,14 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
         return 0;
     const double len = rt_v3_len(p->ray.dir);
     double tau = -rt_det_log(1.0 - rt_sampler_get1d(&p->smp)); /* (0, inf]: 1 - u is in (0, 1] */
+    if (ns == 1) { /* one span (book2-final's fog): the walk below in one step, the same operations */
+        const double depth = sp[0].density * (sp[0].b - sp[0].a) * len;
+        if (!(sp[0].density > 0 && tau < depth))
+            return 0;
+        *t = sp[0].a + tau / (sp[0].density * len);
+        *medium = sp[0].medium;
+        return 1;
+    }
     double x = T_MIN;
     for (;;) { /* from x to the next span boundary */
         double next = INFINITY, dens = 0;

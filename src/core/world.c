@@ -1,7 +1,10 @@
-/* world.c - quads and moving spheres in a binary BVH of their boxes, the
- * media's spans, surface records with (u, v). */
-#include "world.h"
+/* world.c - the world's build: quads and moving spheres in a binary SAH
+ * tree of their boxes, collapsed into a wide tree of float boxes
+ * (world_closest.c walks it); the media's spans, surface records with
+ * (u, v). */
+#include "world_internal.h"
 #include "core_internal.h"
+#include "fbox.h"
 
 #include <float.h>
 #include <math.h>
@@ -11,34 +14,22 @@
 #include "sphere.h"
 #include "status.h"
 
-#define LEAF_ITEMS 4 /* a node of more items is split even when the heuristic says no */
-#define STACK 128
+/* Items of a leaf at most: a node of more is split even when the heuristic
+ * says no. One: in a wide node a leaf takes a child slot, and its item's
+ * own box is the tightest cull the box test can make. */
+#define LEAF_ITEMS 1
 
-/* A quad with what its test needs: its plane (unit normal n, offset d)
- * and the vectors whose dot products with a point's offset from q give its
- * edge coordinates: with N = u x v and w = N / |N|^2, the book's
- * alpha = w . (p x v) = p . (v x w) and beta = w . (u x p) = p . (w x u). */
-typedef struct quad_x {
-    rt_vec3 q, n, ea, eb;
-    double d;
-} quad_x;
-
+/* A node of the binary tree (the build's): */
 typedef struct wnode {
     double lo[3], hi[3];
-    uint32_t first, count; /* leaf: items [first, first + count); inner: count 0, children first, first + 1 */
+    uint32_t first, count; /* leaf: items [first, first + count); inner: count 0, children me + 1, first */
 } wnode;
 
-struct rt_world {
-    const rt_scene *s;
-    quad_x *quads;
-    quad_x *hull; /* the media's boundary quads, prepared once */
-    uint32_t nq, nitems; /* items: quads 0..nq-1, then the moving spheres */
-    uint32_t *items;     /* leaf order */
+typedef struct bin {
     wnode *nodes;
     uint32_t n_nodes;
-    int brute;
-    rt_perlin perlin;
-};
+    uint32_t *items;
+} bin;
 
 typedef struct box {
     double lo[3], hi[3];
@@ -127,7 +118,7 @@ static double best_split(const box *bx, const keyed *tmp, uint32_t count, box *r
  * area heuristic picks among the orders of the centres on each axis (ties
  * by item, so every rank builds the same tree). An inner node's left child
  * follows it; its `first` is the right child. */
-static int build(rt_world *w, const box *bx, keyed *tmp, box *rest, uint32_t first, uint32_t count)
+static int build(bin *w, const box *bx, keyed *tmp, box *rest, uint32_t first, uint32_t count)
 {
     const uint32_t me = w->n_nodes++;
     box b = EMPTY;
@@ -188,26 +179,132 @@ static quad_x quad_prep(const rt_quad *q)
     return x;
 }
 
-int rt_world_build(rt_world **out, const rt_scene *s, int brute)
+/* The wide tree's node for binary node bid (world.c's build): its children
+ * are the binary node's, the largest inner one opened until there are
+ * WWIDTH; their boxes in float, widened by more than the rounding of box
+ * and ray origin (margin_base) and rounded outward. Returns its index, or
+ * -1 past RT_WORLD_DEPTH_MAX levels. */
+static int collapse(rt_world *w, const wnode *bn, uint32_t bid, double margin_base, int depth)
+{
+    if (depth > RT_WORLD_DEPTH_MAX)
+        return -1;
+    const uint32_t me = w->n_nodes++;
+    uint32_t kids[WWIDTH];
+    int nk = 0;
+    if (bn[bid].count) { /* a root that is a leaf */
+        kids[nk++] = bid;
+    } else {
+        kids[nk++] = bid + 1;
+        kids[nk++] = bn[bid].first;
+    }
+    while (nk < WWIDTH) {
+        int open = -1;
+        double open_area = -1;
+        for (int k = 0; k < nk; k++) {
+            const wnode *c = &bn[kids[k]];
+            box b;
+            memcpy(b.lo, c->lo, sizeof b.lo);
+            memcpy(b.hi, c->hi, sizeof b.hi);
+            if (!c->count && area(&b) > open_area) {
+                open_area = area(&b);
+                open = k;
+            }
+        }
+        if (open < 0)
+            break;
+        const uint32_t o = kids[open];
+        kids[open] = o + 1;
+        kids[nk++] = bn[o].first;
+    }
+    wide n;
+    memset(&n, 0, sizeof n);
+    n.nchild = (1 << nk) - 1;
+    for (int k = 0; k < WWIDTH; k++) {
+        for (int a = 0; a < 3; a++) {
+            n.bmin[a][k] = INFINITY;
+            n.bmax[a][k] = -INFINITY;
+        }
+        if (k >= nk)
+            continue;
+        const wnode *c = &bn[kids[k]];
+        for (int a = 0; a < 3; a++) {
+            const double margin = 1e-6 * (1.0 + fmax(fabs(c->lo[a]), fabs(c->hi[a]))) + margin_base;
+            n.bmin[a][k] = round_down(c->lo[a], margin);
+            n.bmax[a][k] = round_up(c->hi[a], margin);
+        }
+        if (c->count) {
+            n.child[k] = ~(int32_t)((c->first << 4) | (c->count - 1));
+        } else {
+            const int sub = collapse(w, bn, kids[k], margin_base, depth + 1);
+            if (sub < 0)
+                return -1;
+            n.child[k] = sub;
+        }
+    }
+    w->nodes[me] = n;
+    return (int)me;
+}
+
+/* The wide tree over the items' boxes bx; RT_OK with no tree (brute force)
+ * when it would be too deep. */
+static int build_tree(rt_world *w, const box *bx, double extent)
+{
+    const uint32_t n = w->nitems;
+    bin B = {malloc(2 * (size_t)n * sizeof *B.nodes), 0, w->items};
+    keyed *tmp = malloc(n * sizeof *tmp);
+    box *rest = malloc(n * sizeof *rest);
+    w->nodes = aligned_alloc(64, 2 * (size_t)n * sizeof *w->nodes);
+    int st = B.nodes && tmp && rest && w->nodes ? RT_OK : RT_ENOMEM;
+    if (!st) {
+        build(&B, bx, tmp, rest, 0, n);
+        /* ray origins are rounded to float too: a little more than that */
+        if (collapse(w, B.nodes, 0, 4.0 * extent * FLT_EPSILON, 1) < 0 || n >= (1u << 27)) {
+            w->n_nodes = 0;
+            w->mode = RT_WORLD_BRUTE;
+        }
+    }
+    free(B.nodes);
+    free(tmp);
+    free(rest);
+    return st;
+}
+
+/* The largest coordinate of the boxes and the camera. */
+static double extent_of(const rt_scene *s, const box *bx, uint32_t n)
+{
+    const rt_vec3 c = s->camera.lookfrom;
+    double e = fmax(fabs(c.x), fmax(fabs(c.y), fabs(c.z)));
+    for (uint32_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            e = fmax(e, fmax(fabs(bx[i].lo[k]), fabs(bx[i].hi[k])));
+    return e;
+}
+
+int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
 {
     *out = NULL;
     rt_world *w = calloc(1, sizeof *w);
     if (!w)
         return RT_ENOMEM;
     w->s = s;
-    w->brute = brute;
+    w->mode = mode;
+#if RT_BVH_HAVE_AVX
+    __builtin_cpu_init();
+    if (mode == RT_WORLD_BVH && !__builtin_cpu_supports("avx"))
+        w->mode = RT_WORLD_BVH_SSE;
+#else
+    if (mode == RT_WORLD_BVH)
+        w->mode = RT_WORLD_BVH_SSE;
+#endif
     w->nq = s->shapes.quads.n;
     w->nitems = w->nq + s->shapes.movers.n;
     rt_perlin_init(&w->perlin, s->tex.noise_seed);
     const size_t n = w->nitems ? w->nitems : 1;
     w->quads = malloc((w->nq ? w->nq : 1) * sizeof *w->quads);
     w->items = malloc(n * sizeof *w->items);
-    w->nodes = malloc(2 * n * sizeof *w->nodes);
     box *bx = malloc(n * sizeof *bx);
-    keyed *tmp = malloc(n * sizeof *tmp);
-    box *rest = malloc(n * sizeof *rest);
     w->hull = malloc((s->media.hull.n ? s->media.hull.n : 1) * sizeof *w->hull);
-    int st = (w->quads && w->hull && w->items && w->nodes && bx && tmp && rest) ? RT_OK : RT_ENOMEM;
+    int st = (w->quads && w->hull && w->items && bx) ? RT_OK : RT_ENOMEM;
     for (uint32_t i = 0; i < w->nq && !st; i++)
         w->quads[i] = quad_prep(&s->shapes.quads.items[i]);
     for (uint32_t i = 0; i < s->media.hull.n && !st; i++)
@@ -216,11 +313,9 @@ int rt_world_build(rt_world **out, const rt_scene *s, int brute)
         w->items[i] = i;
         bx[i] = item_box(w, i);
     }
-    if (!st && w->nitems && !brute)
-        build(w, bx, tmp, rest, 0, w->nitems);
+    if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)
+        st = build_tree(w, bx, extent_of(s, bx, w->nitems));
     free(bx);
-    free(tmp);
-    free(rest);
     if (st) {
         rt_world_free(w);
         return st;
@@ -243,123 +338,10 @@ void rt_world_free(rt_world *w)
 size_t rt_world_bytes(const rt_world *w)
 {
     return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
-           (size_t)w->nitems * (sizeof *w->items + 2 * sizeof(wnode));
+           (size_t)w->nitems * sizeof *w->items + (size_t)w->n_nodes * sizeof(wide);
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
-
-/* The book's quad test: the plane, then the edge coordinates in [0, 1]. */
-static int quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, double *t)
-{
-    const double denom = rt_v3_dot(q->n, ray->dir);
-    if (fabs(denom) < 1e-8)
-        return 0;
-    const double tt = (q->d - rt_v3_dot(q->n, ray->orig)) / denom;
-    if (!(tt > tmin && tt <= tmax))
-        return 0;
-    const rt_vec3 hp = rt_v3_sub(rt_ray_at(ray, tt), q->q);
-    const double a = rt_v3_dot(hp, q->ea), b = rt_v3_dot(hp, q->eb);
-    if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1))
-        return 0;
-    *t = tt;
-    return 1;
-}
-
-static rt_vec3 mover_center(const rt_mover *m, double time)
-{
-    return rt_v3_add(m->center0, rt_v3_scale(rt_v3_sub(m->center1, m->center0), time));
-}
-
-/* Item i against the ray: replaces (*best_t, *best) when nearer, or as
- * near with a lower item (quads come first). */
-static void test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double a, double time, double tmin,
-                      double *best_t, uint32_t *best)
-{
-    double t;
-    int hit;
-    if (i < w->nq) {
-        hit = quad_t(&w->quads[i], ray, tmin, *best_t, &t);
-    } else {
-        const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
-        hit = rt_sphere_root(mover_center(m, time), m->radius * m->radius, ray, a, tmin, &t) && t <= *best_t;
-    }
-    if (hit && (t < *best_t || i < *best)) {
-        *best_t = t;
-        *best = i;
-    }
-}
-
-/* Whether the ray meets node n's box within [tmin, tmax]; *enter: where.
- * A NaN slab bound (0 x inf, a ray in a face's plane) leaves the bound as
- * it was: the comparisons below are false for it. */
-static inline int box_hit(const wnode *n, const rt_vec3 *o, const rt_vec3 *inv, double tmin, double tmax,
-                          double *enter)
-{
-    const double oo[3] = {o->x, o->y, o->z}, id[3] = {inv->x, inv->y, inv->z};
-    for (int k = 0; k < 3; k++) {
-        const double t0 = (n->lo[k] - oo[k]) * id[k], t1 = (n->hi[k] - oo[k]) * id[k];
-        const double near = t0 < t1 ? t0 : t1, far = t0 < t1 ? t1 : t0;
-        tmin = near > tmin ? near : tmin;
-        tmax = far < tmax ? far : tmax;
-    }
-    *enter = tmin;
-    return tmin <= tmax;
-}
-
-int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
-{
-    const double a = rt_v3_len2(ray->dir);
-    double best_t = tmax;
-    uint32_t best = UINT32_MAX;
-    if (w->brute || !w->nitems) {
-        for (uint32_t i = 0; i < w->nitems; i++)
-            test_item(w, i, ray, a, time, tmin, &best_t, &best);
-    } else {
-        const rt_vec3 inv = rt_v3(1.0 / ray->dir.x, 1.0 / ray->dir.y, 1.0 / ray->dir.z);
-        /* Nearer child first, each with where the ray enters its box: a
-         * box entered beyond the closest hit so far is skipped when popped
-         * (one touched at it may still hold a tie of lower index). */
-        uint32_t stack[STACK];
-        double enter[STACK];
-        int sp = 0;
-        double e0;
-        if (box_hit(&w->nodes[0], &ray->orig, &inv, tmin, best_t, &e0)) {
-            stack[sp] = 0;
-            enter[sp++] = e0;
-        }
-        while (sp > 0) {
-            --sp;
-            if (enter[sp] > best_t)
-                continue;
-            const wnode *n = &w->nodes[stack[sp]];
-            if (n->count) {
-                for (uint32_t k = n->first; k < n->first + n->count; k++)
-                    test_item(w, w->items[k], ray, a, time, tmin, &best_t, &best);
-                continue;
-            }
-            const uint32_t l = stack[sp] + 1, r = n->first;
-            double el = 0, er = 0;
-            const int hl = box_hit(&w->nodes[l], &ray->orig, &inv, tmin, best_t, &el);
-            const int hr = box_hit(&w->nodes[r], &ray->orig, &inv, tmin, best_t, &er);
-            if (hl && hr && sp + 2 <= STACK) {
-                const int lfirst = el <= er;
-                stack[sp] = lfirst ? r : l;
-                enter[sp++] = lfirst ? er : el;
-                stack[sp] = lfirst ? l : r;
-                enter[sp++] = lfirst ? el : er;
-            } else if (hl || hr) {
-                stack[sp] = hl ? l : r;
-                enter[sp++] = hl ? el : er;
-            }
-        }
-    }
-    if (best == UINT32_MAX)
-        return 0;
-    hit->t = best_t;
-    hit->kind = best < w->nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER;
-    hit->index = best < w->nq ? best : best - w->nq;
-    return 1;
-}
 
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1)
 {
@@ -378,7 +360,7 @@ int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, doubl
     /* a convex hull: the line enters at its first crossing, leaves at its last */
     double lo = DBL_MAX, hi = -DBL_MAX, t;
     for (uint32_t i = m->first; i < m->first + m->count; i++) {
-        if (quad_t(&w->hull[i], ray, -DBL_MAX, DBL_MAX, &t)) { /* the whole line's crossing */
+        if (rt_quad_t(&w->hull[i], ray, -DBL_MAX, DBL_MAX, &t)) { /* the whole line's crossing */
             lo = fmin(lo, t);
             hi = fmax(hi, t);
         }
@@ -438,7 +420,7 @@ void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, do
     rt_sphere sp;
     if (h->kind == RT_SHAPE_MOVER) {
         const rt_mover *m = &s->shapes.movers.items[h->index];
-        sp = (rt_sphere){.center = mover_center(m, time),
+        sp = (rt_sphere){.center = rt_mover_center(m, time),
                          .radius = m->radius,
                          .material = m->material,
                          .frame = m->frame};

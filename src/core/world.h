@@ -30,8 +30,23 @@ typedef struct rt_whit {
     uint32_t index;
 } rt_whit;
 
-/* brute: test every shape (the oracle) instead of the BVH. */
-int rt_world_build(rt_world **out, const rt_scene *s, int brute);
+/* How rt_world_closest finds its hit: the wide tree with the fastest box
+ * test the CPU has (AVX, else SSE2, else the portable one), brute force
+ * (every shape: the oracle), or the tree with the SSE2 or the portable box
+ * test whatever the CPU (what other nodes run; --accel bvh-sse and
+ * bvh-scalar). All of them find the same hits. */
+typedef enum rt_world_mode {
+    RT_WORLD_BVH = 0,
+    RT_WORLD_BRUTE = 1,
+    RT_WORLD_BVH_SSE = 2,
+    RT_WORLD_BVH_SCALAR = 3,
+} rt_world_mode;
+
+/* Levels of the wide tree at most; a deeper tree (degenerate input) is
+ * dropped for brute force. */
+#define RT_WORLD_DEPTH_MAX 64
+
+int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode);
 void rt_world_free(rt_world *w);
 size_t rt_world_bytes(const rt_world *w);
 const rt_perlin *rt_world_perlin(const rt_world *w);

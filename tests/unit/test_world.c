@@ -36,7 +36,7 @@ static void check_quad(void)
     CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, 0), rt_v3(NAN, 0, 0), rt_v3(0, 1, 0), m, NULL), RT_EINVAL);
     CHECK_EQ_INT(s.shapes.quads.n, 1);
     rt_world *w;
-    CHECK_EQ_INT(rt_world_build(&w, &s, 0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH), RT_OK);
     rt_whit h;
     rt_ray r = ray_of(rt_v3(2, 1.5, 0), rt_v3(0, 0, -2)); /* |dir| 2: t in units of it */
     CHECK_EQ_INT(rt_world_closest(w, &r, 0, 0.001, INFINITY, &h), 1);
@@ -68,7 +68,7 @@ static void check_mover(void)
     CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(0, 0, -5), rt_v3(4, 0, -5), 1, m, NULL), RT_OK);
     rt_world *w;
     for (int brute = 0; brute < 2; brute++) {
-        CHECK_EQ_INT(rt_world_build(&w, &s, brute), RT_OK);
+        CHECK_EQ_INT(rt_world_build(&w, &s, brute ? RT_WORLD_BRUTE : RT_WORLD_BVH), RT_OK);
         rt_whit h;
         rt_ray r = ray_of(rt_v3(3, 0, 0), rt_v3(0, 0, -1));
         CHECK_EQ_INT(rt_world_closest(w, &r, 0.0, 0.001, INFINITY, &h), 0); /* at time 0 it is at x = 0 */
@@ -80,15 +80,16 @@ static void check_mover(void)
     rt_scene_free(&s);
 }
 
-/* The BVH finds brute force's hit (kind, index and t to the bit) for
+/* The wide tree, with each box test (mode: the CPU's best, SSE2, the
+ * portable one), finds brute force's hit (kind, index and t to the bit) for
  * random rays in book 2's scenes with quads and moving spheres. */
-static void check_bvh_vs_brute(const char *name)
+static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
 {
     rt_scene s;
     CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
     rt_world *wb, *wf;
-    CHECK_EQ_INT(rt_world_build(&wb, &s, 0), RT_OK);
-    CHECK_EQ_INT(rt_world_build(&wf, &s, 1), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wb, &s, mode), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE), RT_OK);
     rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
     int hits = 0, same = 0;
     const int N = 20000;
@@ -114,7 +115,8 @@ static void check_bvh_vs_brute(const char *name)
             fprintf(stderr, "  %s ray %d: bvh %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n",
                     name, i, ha, a.t, a.kind, a.index, hb, b.t, b.kind, b.index);
     }
-    fprintf(stderr, "%s: %d rays, %d hit, %d the same from BVH and brute force\n", name, N, hits, same);
+    fprintf(stderr, "%s (mode %d): %d rays, %d hit, %d the same from BVH and brute force\n", name, (int)mode, N,
+            hits, same);
     CHECK_EQ_INT(same, N);
     CHECK(hits > N / 20);
     rt_world_free(wb);
@@ -374,10 +376,13 @@ int main(void)
     check_quad();
     check_mover();
     check_instance();
-    check_bvh_vs_brute("cornell-box");
-    check_bvh_vs_brute("cornell-smoke");
-    check_bvh_vs_brute("bouncing-spheres");
-    check_bvh_vs_brute("quads");
+    const rt_world_mode modes[] = {RT_WORLD_BVH, RT_WORLD_BVH_SSE, RT_WORLD_BVH_SCALAR};
+    for (int m = 0; m < 3; m++) {
+        check_bvh_vs_brute("cornell-box", modes[m]);
+        check_bvh_vs_brute("cornell-smoke", modes[m]);
+        check_bvh_vs_brute("bouncing-spheres", modes[m]);
+        check_bvh_vs_brute("quads", modes[m]);
+    }
     check_transmittance(0);
     check_transmittance(1);
     check_detmath();

@@ -1,0 +1,135 @@
+/* fbox.h - the float boxes of the wide BVHs (the spheres' in bvh*.c, the
+ * quads' and moving spheres' in world*.c): a box is stored in float rounded
+ * outward, a ray's origin and inverse direction in float, and the interval
+ * of a box test is a little wider than the double one, so that float
+ * rounding never culls a box the exact ray enters. Private to those files. */
+#ifndef RT_FBOX_H
+#define RT_FBOX_H
+
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "bvh.h" /* RT_BVH_HAVE_SSE2, RT_BVH_HAVE_AVX */
+
+#if RT_BVH_HAVE_SSE2
+#include <immintrin.h>
+#endif
+
+#define FBOX_WIDTH 8 /* children of a node: one AVX register of floats, two SSE2 ones */
+
+/* 1 when f's sign bit is set (f < 0 for the nonzero values of safe_inv). */
+static inline int sign_bit(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return (int)(u >> 31);
+}
+
+/* The float bounds of the box tests around the double interval (tmin,
+ * closest): a little wider, so that a box the exact interval enters is never
+ * culled by float rounding. INFINITY stays INFINITY. */
+#define TMIN_SHRINK 0.999f
+#define TFAR_GROW 1.0001f
+static inline float near_bound(double tmin) { return (float)tmin * TMIN_SHRINK; }
+static inline float far_bound(double closest) { return (float)closest * TFAR_GROW; }
+
+/* 1 / d in float, never infinite: a zero component gives +-1e30. */
+static inline float safe_inv(double d)
+{
+    float f = (float)d;
+    if (fabsf(f) < 1e-30f)
+        f = f < 0 ? -1e-30f : 1e-30f;
+    return 1.0f / f;
+}
+
+/* v - margin and v + margin rounded outward to float. */
+static inline float round_down(double v, double margin)
+{
+    float f = (float)(v - margin);
+    return (double)f > v - margin ? nextafterf(f, -INFINITY) : f;
+}
+static inline float round_up(double v, double margin)
+{
+    float f = (float)(v + margin);
+    return (double)f < v + margin ? nextafterf(f, INFINITY) : f;
+}
+
+/* The box test of a node's FBOX_WIDTH children against a ray: rows holds
+ * the boxes' bmin rows x, y, z then their bmax rows; r the rows of the
+ * planes the ray meets first (r[0..2], by the signs of its direction) and
+ * last (r[3..5]). Stores each child's entry distance in tn and returns the
+ * bit mask of the children entered within [tmin_f, tfar_f]. The portable,
+ * SSE2 and AVX tests do the same float operations in the same order (no
+ * fused multiply-add), so they find the same children with the same
+ * entry distances. */
+static inline __attribute__((always_inline)) int fbox_portable(const float (*rows)[FBOX_WIDTH], const int r[6],
+                                                               const float fo[3], const float fi[3], float tmin_f,
+                                                               float tfar_f, float tn[FBOX_WIDTH])
+{
+    int mask = 0;
+    for (int k = 0; k < FBOX_WIDTH; k++) {
+        float t0 = (rows[r[0]][k] - fo[0]) * fi[0], t1 = (rows[r[1]][k] - fo[1]) * fi[1];
+        float t2 = (rows[r[2]][k] - fo[2]) * fi[2];
+        float u0 = (rows[r[3]][k] - fo[0]) * fi[0], u1 = (rows[r[4]][k] - fo[1]) * fi[1];
+        float u2 = (rows[r[5]][k] - fo[2]) * fi[2];
+        float near = t0 > t1 ? t0 : t1, far = u0 < u1 ? u0 : u1;
+        near = t2 > near ? t2 : near;
+        near = tmin_f > near ? tmin_f : near;
+        far = u2 < far ? u2 : far;
+        far = tfar_f < far ? tfar_f : far;
+        tn[k] = near;
+        mask |= (near <= far) << k;
+    }
+    return mask;
+}
+
+#if RT_BVH_HAVE_SSE2
+/* The ray's origin o and inverse direction i as broadcast registers. */
+typedef struct fbox_ray4 {
+    __m128 ox, oy, oz, ix, iy, iz, tmin;
+} fbox_ray4;
+
+static inline __attribute__((always_inline)) int fbox_sse(const float (*rows)[FBOX_WIDTH], const int r[6],
+                                                          const fbox_ray4 *v, float tfar_f, float tn[FBOX_WIDTH])
+{
+    int mask = 0;
+    for (int h = 0; h < FBOX_WIDTH; h += 4) {
+        __m128 tnx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[0]] + h), v->ox), v->ix);
+        __m128 tny = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[1]] + h), v->oy), v->iy);
+        __m128 tnz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[2]] + h), v->oz), v->iz);
+        __m128 tfx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[3]] + h), v->ox), v->ix);
+        __m128 tfy = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[4]] + h), v->oy), v->iy);
+        __m128 tfz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[r[5]] + h), v->oz), v->iz);
+        __m128 vn = _mm_max_ps(_mm_max_ps(tnx, tny), _mm_max_ps(tnz, v->tmin));
+        __m128 vf = _mm_min_ps(_mm_min_ps(tfx, tfy), _mm_min_ps(tfz, _mm_set1_ps(tfar_f)));
+        mask |= _mm_movemask_ps(_mm_cmple_ps(vn, vf)) << h;
+        _mm_storeu_ps(tn + h, vn);
+    }
+    return mask;
+}
+#endif
+
+#if RT_BVH_HAVE_AVX
+typedef struct fbox_ray8 {
+    __m256 ox, oy, oz, ix, iy, iz, tmin;
+} fbox_ray8;
+
+static inline __attribute__((always_inline, target("avx"))) int fbox_avx(const float (*rows)[FBOX_WIDTH],
+                                                                         const int r[6], const fbox_ray8 *v,
+                                                                         float tfar_f, float tn[FBOX_WIDTH])
+{
+    __m256 tnx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[0]]), v->ox), v->ix);
+    __m256 tny = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[1]]), v->oy), v->iy);
+    __m256 tnz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[2]]), v->oz), v->iz);
+    __m256 tfx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[3]]), v->ox), v->ix);
+    __m256 tfy = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[4]]), v->oy), v->iy);
+    __m256 tfz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[r[5]]), v->oz), v->iz);
+    __m256 vn = _mm256_max_ps(_mm256_max_ps(tnx, tny), _mm256_max_ps(tnz, v->tmin));
+    __m256 vf = _mm256_min_ps(_mm256_min_ps(tfx, tfy), _mm256_min_ps(tfz, _mm256_set1_ps(tfar_f)));
+    _mm256_storeu_ps(tn, vn);
+    return _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ));
+}
+#endif
+
+#endif

@@ -1,0 +1,72 @@
+/* world_closest.c - the closest quad or moving sphere along a ray: brute
+ * force (the oracle), or the wide tree of world.c's build with the box test
+ * of the instruction set (world_traverse.h, once per set as bvh.c does). */
+#include "world_internal.h"
+
+#include "bvh.h"
+#include "fbox.h"
+
+#if RT_BVH_HAVE_SSE2
+#include <immintrin.h>
+#endif
+
+#define WSTACK ((WWIDTH - 1) * RT_WORLD_DEPTH_MAX)
+
+#define WTRAVERSE closest_base
+#define WTRAV_AVX 0
+#include "world_traverse.h"
+#undef WTRAVERSE
+#undef WTRAV_AVX
+
+#if RT_BVH_HAVE_AVX
+#ifdef __clang__
+#pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx")
+#endif
+#define WTRAVERSE closest_avx
+#define WTRAV_AVX 1
+#include "world_traverse.h"
+#undef WTRAVERSE
+#undef WTRAV_AVX
+static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best)
+{
+    return closest_avx(w, ray, time, tmin, best_t, best, 1);
+}
+#ifdef __clang__
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif
+
+int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
+{
+    double best_t = tmax;
+    uint32_t best = UINT32_MAX;
+    switch (w->n_nodes ? w->mode : RT_WORLD_BRUTE) {
+#if RT_BVH_HAVE_AVX
+    case RT_WORLD_BVH:
+        walk_avx(w, ray, time, tmin, &best_t, &best);
+        break;
+#endif
+    case RT_WORLD_BVH_SSE:
+        closest_base(w, ray, time, tmin, &best_t, &best, RT_BVH_HAVE_SSE2);
+        break;
+    case RT_WORLD_BVH_SCALAR:
+        closest_base(w, ray, time, tmin, &best_t, &best, 0);
+        break;
+    default: {
+        const double a = rt_v3_len2(ray->dir);
+        for (uint32_t i = 0; i < w->nitems; i++)
+            rt_world_test_item(w, i, ray, a, time, tmin, &best_t, &best);
+    }
+    }
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = best_t;
+    hit->kind = best < w->nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER;
+    hit->index = best < w->nq ? best : best - w->nq;
+    return 1;
+}

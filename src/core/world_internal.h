@@ -1,0 +1,92 @@
+/* world_internal.h - the world's layout, shared by its build (world.c) and
+ * its closest-hit queries (world_closest.c, world_traverse.h); nothing else
+ * includes it. */
+#ifndef RT_WORLD_INTERNAL_H
+#define RT_WORLD_INTERNAL_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "fbox.h"
+#include "scene.h"
+#include "sphere.h"
+#include "texture.h"
+#include "world.h"
+
+/* A quad with what its test needs: its plane (unit normal n, offset d)
+ * and the vectors whose dot products with a point's offset from q give its
+ * edge coordinates: with N = u x v and w = N / |N|^2, the book's
+ * alpha = w . (p x v) = p . (v x w) and beta = w . (u x p) = p . (w x u). */
+typedef struct quad_x {
+    rt_vec3 q, n, ea, eb;
+    double d;
+} quad_x;
+
+#define WWIDTH FBOX_WIDTH
+
+/* A node of the wide tree: its children's boxes in float, rounded outward
+ * (fbox.h), rows x, y, z; a child is a node (code >= 0) or a leaf of items
+ * ~code >> 4 .. + (~code & 15) of the leaf order. */
+typedef struct wide {
+    _Alignas(64) float bmin[3][WWIDTH];
+    float bmax[3][WWIDTH];
+    int32_t child[WWIDTH];
+    int32_t nchild; /* bit mask of the child slots in use */
+} wide;
+
+struct rt_world {
+    const rt_scene *s;
+    quad_x *quads;
+    quad_x *hull; /* the media's boundary quads, prepared once */
+    uint32_t nq, nitems; /* items: quads 0..nq-1, then the moving spheres */
+    uint32_t *items;     /* leaf order */
+    wide *nodes;
+    uint32_t n_nodes;
+    int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
+    rt_perlin perlin;
+};
+
+/* The book's quad test: the plane, then the edge coordinates in [0, 1]. */
+static inline int rt_quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, double *t)
+{
+    const double denom = rt_v3_dot(q->n, ray->dir);
+    if (fabs(denom) < 1e-8)
+        return 0;
+    const double tt = (q->d - rt_v3_dot(q->n, ray->orig)) / denom;
+    if (!(tt > tmin && tt <= tmax))
+        return 0;
+    const rt_vec3 hp = rt_v3_sub(rt_ray_at(ray, tt), q->q);
+    const double a = rt_v3_dot(hp, q->ea), b = rt_v3_dot(hp, q->eb);
+    if (!(a >= 0 && a <= 1 && b >= 0 && b <= 1))
+        return 0;
+    *t = tt;
+    return 1;
+}
+
+static inline rt_vec3 rt_mover_center(const rt_mover *m, double time)
+{
+    return rt_v3_add(m->center0, rt_v3_scale(rt_v3_sub(m->center1, m->center0), time));
+}
+
+/* Item i against the ray: replaces (*best_t, *best) when nearer, or as
+ * near with a lower item (quads come first); returns 1 if it does. */
+static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double a, double time,
+                                     double tmin, double *best_t, uint32_t *best)
+{
+    double t;
+    int hit;
+    if (i < w->nq) {
+        hit = rt_quad_t(&w->quads[i], ray, tmin, *best_t, &t);
+    } else {
+        const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
+        hit = rt_sphere_root(rt_mover_center(m, time), m->radius * m->radius, ray, a, tmin, &t) && t <= *best_t;
+    }
+    if (hit && (t < *best_t || i < *best)) {
+        *best_t = t;
+        *best = i;
+        return 1;
+    }
+    return 0;
+}
+
+#endif

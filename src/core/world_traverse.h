@@ -1,0 +1,109 @@
+/* world_traverse.h - the world's closest-hit traversal, included by
+ * world_closest.c once per instruction set: it defines WTRAVERSE (the
+ * function's name), with the AVX box test when WTRAV_AVX is 1, else the SSE2
+ * one (when the build has SSE2 and the argument `simd` is 1) or the portable
+ * one. Not a header to include anywhere else.
+ *
+ * The same walk as the spheres' tree (bvh_traverse.h): ordered depth-first,
+ * the nearest child hit next, the others pushed far to near with their
+ * entry distance, popped entries beyond the closest hit so far dropped; box
+ * planes chosen once per ray by the direction's signs. The three box tests
+ * do the same float operations in the same order, so they visit the same
+ * leaves; the leaves' tests are in double (world_internal.h) and their rule
+ * does not depend on the order, so every variant and brute force agree. */
+
+static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, const rt_ray *ray, double time,
+                                                            double tmin, double *best_t, uint32_t *best,
+                                                            const int simd)
+{
+    const double a = rt_v3_len2(ray->dir);
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+    const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
+    const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz; /* rows of bmin then bmax, as float[6][WWIDTH] */
+    const int rws[6] = {nx, ny, nz, 3 - nx, 5 - ny, 7 - nz}; /* the near planes' rows, then the far ones' */
+    const float tmin_f = near_bound(tmin);
+    float tfar_f = far_bound(*best_t);
+#if WTRAV_AVX
+    (void)simd;
+    const fbox_ray8 vr = {_mm256_set1_ps(fo[0]), _mm256_set1_ps(fo[1]), _mm256_set1_ps(fo[2]), _mm256_set1_ps(fi[0]),
+                          _mm256_set1_ps(fi[1]), _mm256_set1_ps(fi[2]), _mm256_set1_ps(tmin_f)};
+#elif RT_BVH_HAVE_SSE2
+    const fbox_ray4 vr = {_mm_set1_ps(fo[0]), _mm_set1_ps(fo[1]), _mm_set1_ps(fo[2]), _mm_set1_ps(fi[0]),
+                          _mm_set1_ps(fi[1]), _mm_set1_ps(fi[2]), _mm_set1_ps(tmin_f)};
+#else
+    (void)simd;
+#endif
+    int32_t stack_node[WSTACK];
+    float stack_t[WSTACK];
+    int sp = 0;
+    int32_t code = 0;
+    for (;;) {
+        if (code < 0) {
+            const uint32_t v = ~(uint32_t)code, first = v >> 4, end = first + (v & 15u) + 1;
+            int any = 0;
+            for (uint32_t k = first; k < end; k++)
+                any |= rt_world_test_item(w, w->items[k], ray, a, time, tmin, best_t, best);
+            if (any)
+                tfar_f = far_bound(*best_t);
+        } else {
+            const wide *n = &w->nodes[code];
+            const float(*rows)[WWIDTH] = (const float(*)[WWIDTH])n->bmin;
+            float tn[WWIDTH];
+            int mask;
+#if WTRAV_AVX
+            mask = fbox_avx(rows, rws, &vr, tfar_f, tn);
+#elif RT_BVH_HAVE_SSE2
+            mask = simd ? fbox_sse(rows, rws, &vr, tfar_f, tn) : fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
+#else
+            mask = fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
+#endif
+            mask &= n->nchild;
+            if (mask) {
+                int c0 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* one child: go straight on */
+                    code = n->child[c0];
+                    continue;
+                }
+                int c1 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (!mask) { /* two: push the far one */
+                    int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
+                    stack_node[sp] = n->child[far];
+                    stack_t[sp++] = tn[far];
+                    code = n->child[near];
+                    continue;
+                }
+                /* more: by entry distance, far first, onto the stack; the nearest next */
+                int32_t cc[WWIDTH];
+                float ct[WWIDTH];
+                int m = 0;
+                for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
+                    int k = __builtin_ctz(left), j = m++;
+                    while (j > 0 && ct[j - 1] < tn[k]) {
+                        ct[j] = ct[j - 1];
+                        cc[j] = cc[j - 1];
+                        j--;
+                    }
+                    ct[j] = tn[k];
+                    cc[j] = n->child[k];
+                }
+                for (int q = 0; q < m - 1; q++) {
+                    stack_node[sp] = cc[q];
+                    stack_t[sp++] = ct[q];
+                }
+                code = cc[m - 1];
+                continue;
+            }
+        }
+        for (;;) { /* pop the next entry that can still hold a closer hit */
+            if (sp == 0)
+                return 0;
+            sp--;
+            if (stack_t[sp] <= tfar_f)
+                break;
+        }
+        code = stack_node[sp];
+    }
+}
