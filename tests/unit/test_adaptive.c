@@ -48,7 +48,7 @@ static void check_replay(void)
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
     for (int kind = 0; kind < 2; kind++) {
-        rt_job p = {24, 16, 128, 50, 7, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, 1, 0, 0.03, 0};
+        rt_job p = {24, 16, 128, 50, 7, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, 1, 0, 0.03, 0, RT_LIGHT_MIS};
         rt_renderer r;
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         CHECK_EQ_INT(r.lay.ch, 4);
@@ -98,7 +98,7 @@ static void check_furnace(void)
     const double want[3] = {albedo.x, albedo.y, albedo.z};
     for (int kind = 0; kind < 2; kind++)
         for (int roulette = 0; roulette < 2; roulette++) {
-            rt_job p = {32, 24, 256, 50, 3, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, roulette, 1, 0.05, 0};
+            rt_job p = {32, 24, 256, 50, 3, RT_DIFFUSE_LAMBERTIAN, (rt_sampler_kind)kind, roulette, 1, 0.05, 0, RT_LIGHT_MIS};
             rt_renderer r;
             CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
             const size_t npix = (size_t)p.width * p.height;
@@ -142,7 +142,7 @@ static void check_bias_power(void)
     rt_scene s;
     rt_accel *a;
     furnace_scene(&s, &a);
-    rt_job p = {128, 96, 256, 50, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 1, 1, 0.05, 0};
+    rt_job p = {128, 96, 256, 50, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 1, 1, 0.05, 0, RT_LIGHT_MIS};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     const size_t npix = (size_t)p.width * p.height;
@@ -192,7 +192,7 @@ static void check_final_means(void)
     double mean[2][3] = {{0}}, var[2][3] = {{0}};
     for (int c = 0; c < 2; c++) {
         rt_job p = {W, H, c ? 256 : 1024, 50, 12, RT_DIFFUSE_LAMBERTIAN, c ? RT_SAMPLER_SOBOL : RT_SAMPLER_RANDOM,
-                    c, 0, c ? 0.02 : 0, 0};
+                    c, 0, c ? 0.02 : 0, 0, RT_LIGHT_MIS};
         rt_renderer r;
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         for (uint32_t y = 0; y < H; y++)

@@ -24,7 +24,7 @@ typedef struct image {
 
 static void render(image *im, const rt_scene *s, const rt_accel *a, uint32_t aov, double threshold, int roulette)
 {
-    rt_job p = {30, 20, 64, 50, 9, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, roulette, 0, threshold, aov};
+    rt_job p = {30, 20, 64, 50, 9, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, roulette, 0, threshold, aov, RT_LIGHT_MIS};
     CHECK_EQ_INT(rt_render_init(&im->r, s, a, &p), RT_OK);
     im->acc = calloc((size_t)p.width * p.height * im->r.lay.ch, sizeof *im->acc);
     rt_render_rows(&im->r, 0, p.height, 0, p.samples, im->acc, 2);

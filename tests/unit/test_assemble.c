@@ -54,7 +54,7 @@ static int rows_consistent(const rt_assembly *a)
  * each. */
 static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band, uint32_t min_cols)
 {
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
     rt_sched_params p = {band, 4, ranks, 8, 1, passes, min_cols, RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;
@@ -116,7 +116,7 @@ int main(void)
     run(3, 8, 23, 0, 1);  /* passes of column tiles, shuffled */
     {
         /* the tiles' widths: 1, 2 and 2 columns of 5 */
-        rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+        rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
         rt_sched_params p = {0, 4, 8, 8, 1, 1, 1, RT_SPLIT_COLUMNS};
         rt_sched sc;
         CHECK_EQ_INT(rt_sched_init(&sc, &job, &p, NULL), RT_OK);
@@ -130,7 +130,7 @@ int main(void)
 
     /* A unit out of commit order is kept, not lost: with nothing else in,
      * the second sample range of a row waits for the first. */
-    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job job = {W, H, S, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
     rt_sched_params p = {0, 4, 64, 8, 1, 1, 0, RT_SPLIT_COLUMNS};
     int64_t *acc = calloc((size_t)W * H * 3, sizeof *acc);
     rt_assembly a;

@@ -16,7 +16,7 @@ int main(void)
     char path[256];
     snprintf(path, sizeof path, "%s/c.ckpt", dir);
     const uint32_t W = 5, H = 7;
-    rt_ckpt_id job = {{W, H, 16, 50, 42, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0}, 1, 0x1234, 2};
+    rt_ckpt_id job = {{W, H, 16, 50, 42, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS}, 1, 0x1234, 2};
     int64_t acc[5 * 7 * 3], back[5 * 7 * 3];
     uint32_t done[7] = {16, 0, 16, 5, 0, 0, 16}, done2[7]; /* samples per row */
     for (int i = 0; i < 5 * 7 * 3; i++)

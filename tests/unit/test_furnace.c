@@ -85,7 +85,7 @@ static void check_furnace(void)
     for (int model = 0; model < 3; model++)
         for (int kind = 0; kind < 2; kind++)
             for (int roulette = 0; roulette < 2; roulette++) {
-                rt_job p = {24, 16, 128, 50, 3, (rt_diffuse)model, (rt_sampler_kind)kind, roulette, 1, 0, 0};
+                rt_job p = {24, 16, 128, 50, 3, (rt_diffuse)model, (rt_sampler_kind)kind, roulette, 1, 0, 0, RT_LIGHT_MIS};
                 rt_renderer r;
                 CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
                 stats st;
@@ -111,7 +111,7 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
     const rt_scene s = *sc;
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job ref_p = {24, 16, 1024, 50, 11, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
+    rt_job ref_p = {24, 16, 1024, 50, 11, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0, RT_LIGHT_MIS};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &ref_p), RT_OK);
     stats ref;
@@ -124,7 +124,7 @@ static void check_many_bounces(const char *name, const rt_scene *sc)
         int roulette;
     } cfg[] = {{RT_SAMPLER_RANDOM, 1}, {RT_SAMPLER_SOBOL, 0}, {RT_SAMPLER_SOBOL, 1}};
     for (size_t c = 0; c < sizeof cfg / sizeof cfg[0]; c++) {
-        rt_job p = {24, 16, 256, 50, 12, RT_DIFFUSE_LAMBERTIAN, cfg[c].kind, cfg[c].roulette, 0, 0, 0};
+        rt_job p = {24, 16, 256, 50, 12, RT_DIFFUSE_LAMBERTIAN, cfg[c].kind, cfg[c].roulette, 0, 0, 0, RT_LIGHT_MIS};
         CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
         stats st;
         sample_stats(&r, &st, &same);

@@ -11,7 +11,7 @@
 
 int main(void)
 {
-    rt_job job = {8, 20, 12, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job job = {8, 20, 12, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
     /* bands of 2 rows, 3 ranks, 3 passes; 8 columns: too narrow for tiles */
     rt_sched_params p = {2, 4, 3, 8, 1, 3, 0, RT_SPLIT_COLUMNS};
     rt_sched s;

@@ -127,7 +127,7 @@ int main(void)
         if (scene_i % 4 == 0 && W * H <= 1200) {
             rt_accel *bvh;
             CHECK_EQ_INT(rt_accel_new(&bvh, &s, RT_ACCEL_BVH), RT_OK);
-            rt_job rp = {W, H, 9, 8, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
+            rt_job rp = {W, H, 9, 8, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0, RT_LIGHT_MIS};
             rt_renderer with, without;
             CHECK_EQ_INT(rt_render_init(&with, &s, bvh, &rp), RT_OK);
             CHECK_EQ_INT(rt_render_init(&without, &s, bvh, &rp), RT_OK);

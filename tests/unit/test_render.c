@@ -76,7 +76,7 @@ int main(void)
     CHECK_EQ_INT(rt_scene_build_final(&s, 5, 3), RT_OK);
     rt_accel *a;
     CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
-    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0};
+    rt_job p = {40, 24, 6, 20, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &p), RT_OK);
     size_t n = (size_t)p.width * p.height * 3;
@@ -205,7 +205,7 @@ int main(void)
     /* A wide layout (adaptive count, normal) to 3 sums of -s samples: the
      * colour scaled from each pixel's count (rounded half away from zero),
      * a signed buffer likewise, a pixel with no samples 0. */
-    rt_job wj = {2, 1, 64, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0.05, RT_AOV_NORMAL};
+    rt_job wj = {2, 1, 64, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0.05, RT_AOV_NORMAL, RT_LIGHT_MIS};
     const rt_layout wl = rt_job_layout(&wj);
     CHECK_EQ_INT(wl.ch, 7);
     CHECK_EQ_INT(wl.count, 3);

@@ -75,7 +75,7 @@ typedef struct plan {
 static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t per_rank, uint32_t passes)
 {
     /* 8 columns: narrower than a tile (16), so few rows split samples */
-    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0},
+    plan p = {{8, h, s, 50, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS},
               {band, 16, ranks, per_rank, 1, passes, 0, RT_SPLIT_COLUMNS}};
     return p;
 }
