@@ -3,25 +3,12 @@
 
 #include <math.h>
 
-#include "accel.h"
 #include "detmath.h"
 #include "lights.h"
 #include "texture.h"
 
-#define T_MIN 0.001 /* path.h's shadow-acne bias: a shadow ray starts where a scattered ray would */
+#define T_MIN 0.001 /* path.h's shadow-acne bias, as rt_nee_closest's */
 #define PI 3.14159265358979323846
-
-int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h)
-{
-    rt_hit sh;
-    const int f = rt_accel_closest(r->accel, ray, T_MIN, INFINITY, &sh);
-    if (rt_world_closest(r->world, ray, time, T_MIN, f ? sh.t : INFINITY, h))
-        return 1;
-    if (!f)
-        return 0;
-    *h = (rt_whit){sh.t, RT_SHAPE_SPHERE, sh.prim};
-    return 1;
-}
 
 rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
 {

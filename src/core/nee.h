@@ -10,16 +10,29 @@
 #ifndef RT_NEE_H
 #define RT_NEE_H
 
+#include <math.h>
 #include <stdint.h>
 
+#include "accel.h"
 #include "render.h"
 #include "sampler.h"
 #include "world.h"
 
-/* The closest surface of ray at time `time` with T_MIN < t: the static
- * spheres' BVH, then the quads and moving spheres up to its hit (a tie
- * goes to them: a fixed rule). */
-int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h);
+/* The closest surface of ray at time `time` with t > 0.001 (path.h's
+ * T_MIN): the static spheres' BVH, then the quads and moving spheres up to
+ * its hit (a tie goes to them: a fixed rule). Inline: the path loop's
+ * every segment. */
+static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h)
+{
+    rt_hit sh;
+    const int f = rt_accel_closest(r->accel, ray, 0.001, INFINITY, &sh);
+    if (rt_world_closest(r->world, ray, time, 0.001, f ? sh.t : INFINITY, h))
+        return 1;
+    if (!f)
+        return 0;
+    *h = (rt_whit){sh.t, RT_SHAPE_SPHERE, sh.prim};
+    return 1;
+}
 
 /* Light at vertex p reaching the path through the vertex's scattering:
  * albedo times the BSDF density pdf_bsdf of the shadow ray's direction

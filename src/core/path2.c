@@ -149,14 +149,16 @@ static void miss2(const p2 *c, path *p)
 #define PI 3.14159265358979323846
 
 /* The light a diffuse vertex at `at` (normal n, zero for isotropic) of
- * albedo gets from a light it samples, when there are lights to sample and
- * the next segment is within the depth limit (as the emitter a scattered
- * ray could hit). Its numbers: the bounce's light dimensions; the
- * scattering's follow. */
-static void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n, rt_vec3 albedo)
+ * albedo gets from a light it samples; called when there are lights to
+ * sample and the next segment is within the depth limit (as the emitter a
+ * scattered ray could hit). Its numbers: the bounce's light dimensions;
+ * the scattering's follow. Out of line: the loop of scenes without lights
+ * stays as small as it was. */
+static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
+
+static __attribute__((noinline)) void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n,
+                                               rt_vec3 albedo)
 {
-    if (!c->r->lights || v->depth + 1 >= c->r->job.max_depth)
-        return;
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
     const rt_vec3 l = rt_nee_direct(c->r, at, n, albedo, v->time, &p->smp, v->segs);
     p->col = rt_v3_add(p->col, rt_v3_mul(p->thr, l));
@@ -172,7 +174,8 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
     const rt_vec3 albedo = rt_texture_albedo(c->s, rt_world_perlin(c->w), m, 0, 0, at);
     if (c->pc.aovs && !p->aov.done)
         p->aov = (aov_rec){1, clamp3(albedo), rt_v3(0, 0, 0)};
-    direct2(c, p, v, at, rt_v3(0, 0, 0), albedo);
+    if (lit(c, v))
+        direct2(c, p, v, at, rt_v3(0, 0, 0), albedo);
     p->thr = rt_v3_mul(p->thr, albedo);
     p->ray.orig = at;
     p->ray.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
@@ -207,19 +210,21 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
     rt_ray next;
     vx->pdf = 0.0;
     if (m->kind == RT_MAT_ISOTROPIC) { /* a surface of isotropic material scatters as a medium does */
-        direct2(c, p, vx, rec.p, rt_v3(0, 0, 0), col);
+        if (lit(c, vx))
+            direct2(c, p, vx, rec.p, rt_v3(0, 0, 0), col);
         next.orig = rec.p;
         next.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
         att = col;
         vx->pdf = 1.0 / (4.0 * PI);
     } else {
-        if (m->kind == RT_MAT_LAMBERTIAN)
+        if (m->kind == RT_MAT_LAMBERTIAN && lit(c, vx))
             direct2(c, p, vx, rec.p, rec.normal, col);
         if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
             return 0;
         if (m->kind == RT_MAT_LAMBERTIAN) {
             att = col;
-            vx->pdf = rt_v3_dot(next.dir, rec.normal) / (rt_v3_len(next.dir) * PI); /* cosine-weighted */
+            if (c->r->lights) /* cosine-weighted */
+                vx->pdf = rt_v3_dot(next.dir, rec.normal) / (rt_v3_len(next.dir) * PI);
         }
     }
     p->thr = rt_v3_mul(p->thr, att);
