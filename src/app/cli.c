@@ -103,6 +103,7 @@ static const optdef OPTS[] = {
     {"sampler", 0, K_SPECIAL, 0, 0, 0},
     {"roulette", 0, K_FLAG, F(roulette), 0, 0},
     {"no-roulette", 0, K_FLAG, F(no_roulette), 0, 0},
+    {"no-light-sampling", 0, K_FLAG, F(no_light_sampling), 0, 0},
     {"scene", 0, K_SPECIAL, 0, 0, 0},
     {"bit-depth", 0, K_SPECIAL, 0, 0, 0},
     {"scene-file", 0, K_PATH, F(scene_file), 0, 0},
@@ -406,6 +407,7 @@ static int settle_run(rt_options *o, char *err, size_t errlen)
         return RT_EINVAL;
     }
     o->job.roulette = o->roulette || (!o->no_roulette && o->job.sampler == RT_SAMPLER_SOBOL);
+    o->job.light = o->no_light_sampling ? RT_LIGHT_BRUTE : RT_LIGHT_MIS;
     if (o->no_checkpoint && (o->resume || o->checkpoint)) {
         snprintf(err, errlen, "--no-checkpoint cannot be combined with --resume or --checkpoint");
         return RT_EINVAL;

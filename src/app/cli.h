@@ -30,6 +30,7 @@ typedef struct rt_options {
      * job.roulette holds the outcome (else on with the Sobol sampler and off
      * with the random one, whose images keep sampling version 2's bytes). */
     int roulette, no_roulette;
+    int no_light_sampling; /* --no-light-sampling: job.light */
     const char *checkpoint; /* NULL until validated: default OUTPUT.ckpt */
     int no_checkpoint, resume, keep_checkpoint;
     uint32_t checkpoint_interval; /* seconds */

@@ -25,7 +25,8 @@ static int answer(int root, rt_cli_action action)
         printf("rt-mpi %s (sampling version %u)\nfeatures: %s\nMPI library: %s\n", RT_VERSION,
                RT_RENDER_SAMPLING, features, rt_farm_mpi_version());
     }
-    static const char *const BOOKS[] = {"", "Ray Tracing in One Weekend (book 1)", "Ray Tracing: The Next Week (book 2)"};
+    static const char *const BOOKS[] = {"", "Ray Tracing in One Weekend (book 1)", "Ray Tracing: The Next Week (book 2)",
+                                         "Ray Tracing: The Rest of Your Life (book 3)"};
     for (unsigned i = 0; action == RT_CLI_LIST_SCENES && i < rt_scenes_count(); i++) {
         const rt_scene_info *in = rt_scenes_info(i);
         if (!i || in->book != rt_scenes_info(i - 1)->book)

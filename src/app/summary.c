@@ -45,9 +45,10 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
     if (o->job.noise_threshold > 0.0) /* %.17g: the very double, which decides where pixels stop */
         snprintf(adapt, sizeof adapt, " --noise-threshold %.17g", o->job.noise_threshold);
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
-             " --diffuse %s --sampler %s%s%s --accel %s%s",
+             " --diffuse %s --sampler %s%s%s%s --accel %s%s",
              scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
-             rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette, adapt, rt_accel_name(accel),
+             rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette,
+             o->job.light == RT_LIGHT_BRUTE ? " --no-light-sampling" : "", adapt, rt_accel_name(accel),
              format);
 }
 

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "bvh.h"
+#include "lights.h"
 #include "sphere.h"
 #include "status.h"
 #include "world.h"
@@ -21,6 +22,7 @@ struct rt_accel {
     rt_bvh *bvh;
     void *embree;
     rt_world *world;
+    rt_lights *lights;
 };
 
 /* The world's traversal for the spheres' one: the same box test. */
@@ -67,6 +69,8 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
     }
     if (!st && rt_scene_is_book2(s))
         st = rt_world_build(&a->world, s, world_mode(kind));
+    if (!st && a->world)
+        st = rt_lights_build(&a->lights, s, RT_LIGHTS_RULE);
     if (st) {
         rt_accel_free(a);
         return st;
@@ -81,6 +85,7 @@ void rt_accel_free(rt_accel *a)
         return;
     rt_bvh_free(a->bvh);
     rt_world_free(a->world);
+    rt_lights_free(a->lights);
 #ifdef RT_HAVE_EMBREE
     rt_embree_free(a->embree);
 #endif
@@ -155,10 +160,13 @@ int rt_accel_parse(const char *name)
 
 size_t rt_accel_bytes(const rt_accel *a)
 {
-    return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0) + (a->world ? rt_world_bytes(a->world) : 0);
+    return sizeof *a + (a->bvh ? rt_bvh_bytes(a->bvh) : 0) + (a->world ? rt_world_bytes(a->world) : 0) +
+           rt_lights_bytes(a->lights);
 }
 
 const struct rt_world *rt_accel_world(const rt_accel *a) { return a->world; }
+
+const struct rt_lights *rt_accel_lights(const rt_accel *a) { return a->lights; }
 
 const char *rt_accel_box_test(const rt_accel *a)
 {

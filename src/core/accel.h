@@ -49,6 +49,9 @@ const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a);
 /* The scene's quads, moving spheres, media and noise tables (world.h) when
  * it has book-2 content (rt_scene_is_book2), else NULL. */
 const struct rt_world *rt_accel_world(const rt_accel *a);
+/* The scene's emitters as lights (lights.h) when it has book-2 content and
+ * emitters, else NULL. */
+const struct rt_lights *rt_accel_lights(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
 /* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds), else NULL: for tests and

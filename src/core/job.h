@@ -10,6 +10,14 @@
 #include "material.h"
 #include "sampler.h"
 
+/* rt_job.light: how the book-2 path loop finds the emitters of a scene
+ * that has some (lights.h). */
+typedef enum rt_light_mode {
+    RT_LIGHT_MIS = 0,      /* next-event estimation and BSDF sampling, by MIS (nee.h) */
+    RT_LIGHT_BRUTE = 1,    /* --no-light-sampling: only paths that hit an emitter by chance */
+    RT_LIGHT_NEE_ONLY = 2, /* next-event estimation alone after diffuse vertices (tests) */
+} rt_light_mode;
+
 typedef struct rt_job {
     uint32_t width, height;
     uint32_t samples;   /* samples per pixel of the whole job */
@@ -25,6 +33,7 @@ typedef struct rt_job {
      * of samples is chosen for (render.h: RT_ADAPT_*). */
     double noise_threshold;
     uint32_t aov; /* RT_AOV_* bits: the buffers a denoiser wants */
+    uint32_t light; /* rt_light_mode */
 } rt_job;
 
 /* Extra buffers per pixel, averaged over its samples like its colour: the

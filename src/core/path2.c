@@ -3,10 +3,12 @@
  * the books' camera), for scenes with such content only (rt_scene_is_book2);
  * book 1's scenes keep path.h's loops, their bytes and their speed. It
  * shares path.h's pixel sums, roulette, adaptive rule and buffers, and
- * draws its numbers by sampler.h's book-2 layout. */
+ * draws its numbers by sampler.h's book-2 layout. In scenes with emitters
+ * it samples them at diffuse vertices (nee.h), unless the job says not. */
 #include "path2.h"
 
 #include "detmath.h"
+#include "nee.h"
 #include "path.h"
 #include "texture.h"
 #include "world.h"
@@ -20,7 +22,17 @@ typedef struct p2 {
     const rt_world *w;
     const rt_scene *s;
     pixel_ctx pc;
+    uint32_t stride; /* sampler dimensions per bounce (sampler.h) */
 } p2;
+
+/* The vertex a path is at: the bounce's depth and first dimension, the
+ * path's time, the BSDF density of the ray that left the vertex before
+ * (0: specular, or the camera's), and the segment count. */
+typedef struct vertex {
+    uint32_t depth, base;
+    double time, pdf;
+    uint64_t *segs;
+} vertex;
 
 /* A new path for sample `sample`: its camera ray and its time. */
 static void start2(const p2 *c, uint32_t sample, path *p, double *time)
@@ -46,20 +58,6 @@ static void start2(const p2 *c, uint32_t sample, path *p, double *time)
     p->ray = rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
     rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_TIME);
     *time = rt_sampler_get1d(&p->smp);
-}
-
-/* The closest surface: the static spheres' BVH, then the quads and moving
- * spheres up to its hit (a tie goes to them: a fixed rule). */
-static int closest2(const p2 *c, const rt_ray *ray, double time, rt_whit *h)
-{
-    rt_hit sh;
-    const int f = c->s->n_spheres && rt_accel_closest(c->r->accel, ray, T_MIN, INFINITY, &sh);
-    if (rt_world_closest(c->w, ray, time, T_MIN, f ? sh.t : INFINITY, h))
-        return 1;
-    if (!f)
-        return 0;
-    *h = (rt_whit){sh.t, RT_SHAPE_SPHERE, sh.prim};
-    return 1;
 }
 
 typedef struct span {
@@ -156,32 +154,57 @@ static void miss2(const p2 *c, path *p)
         p->aov = (aov_rec){1, clamp3(bg), rt_v3(0, 0, 0)};
 }
 
+#define PI 3.14159265358979323846
+
+/* The light a diffuse vertex at `at` (normal n, zero for isotropic) of
+ * albedo gets from a light it samples; called when there are lights to
+ * sample and the next segment is within the depth limit (as the emitter a
+ * scattered ray could hit). Its numbers: the bounce's light dimensions;
+ * the scattering's follow. Out of line: the loop of scenes without lights
+ * stays as small as it was. */
+static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
+
+static __attribute__((noinline)) void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n,
+                                               rt_vec3 albedo)
+{
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
+    const rt_vec3 l = rt_nee_direct(c->r, at, n, albedo, v->time, &p->smp, v->segs);
+    p->col = rt_v3_add(p->col, rt_v3_mul(p->thr, l));
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_SCATTER);
+}
+
 /* Scattering in medium k at distance t: the phase function's direction
  * (isotropic), the medium's colour. */
-static void scatter_medium(const p2 *c, path *p, uint32_t k, double t)
+static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t)
 {
     const rt_material *m = &c->s->materials[c->s->media.media.items[k].material];
     const rt_vec3 at = rt_ray_at(&p->ray, t);
     const rt_vec3 albedo = rt_texture_albedo(c->s, rt_world_perlin(c->w), m, 0, 0, at);
     if (c->pc.aovs && !p->aov.done)
         p->aov = (aov_rec){1, clamp3(albedo), rt_v3(0, 0, 0)};
+    if (lit(c, v))
+        direct2(c, p, v, at, rt_v3(0, 0, 0), albedo);
     p->thr = rt_v3_mul(p->thr, albedo);
     p->ray.orig = at;
     p->ray.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
+    v->pdf = 1.0 / (4.0 * PI);
 }
 
 /* A surface hit: its emission, or its scattering. Returns 1 when the path
  * goes on. */
-static int surface2(const p2 *c, path *p, const rt_whit *h, double time)
+static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
 {
+    const double time = vx->time;
     const rt_material *m = &c->s->materials[rt_world_material(c->w, h)];
     rt_surface rec;
     double u, v;
     rt_world_surface(c->w, h, &p->ray, time, m->texture != 0, &rec, &u, &v);
     const rt_vec3 col = rt_texture_albedo(c->s, rt_world_perlin(c->w), m, u, v, rec.p);
     if (m->kind == RT_MAT_EMITTER) {
-        if (rec.front_face || (m->flags & RT_MAT_TWO_SIDED))
-            p->col = rt_v3_add(p->col, rt_v3_mul(p->thr, col));
+        if (rec.front_face || (m->flags & RT_MAT_TWO_SIDED)) {
+            const double w = c->r->lights ? rt_nee_weight(c->r, &p->ray, vx->pdf, h, time) : 1.0;
+            p->col = rt_v3_add(p->col, rt_v3_scale(rt_v3_mul(p->thr, col), w));
+        }
         /* the denoiser's albedo of a light: its emission clamped to [0, 1] */
         if (c->pc.aovs && !p->aov.done)
             p->aov = (aov_rec){1, clamp3(col), rec.normal};
@@ -193,15 +216,24 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, double time)
     }
     rt_vec3 att;
     rt_ray next;
+    vx->pdf = 0.0;
     if (m->kind == RT_MAT_ISOTROPIC) { /* a surface of isotropic material scatters as a medium does */
+        if (lit(c, vx))
+            direct2(c, p, vx, rec.p, rt_v3(0, 0, 0), col);
         next.orig = rec.p;
         next.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
         att = col;
+        vx->pdf = 1.0 / (4.0 * PI);
     } else {
+        if (m->kind == RT_MAT_LAMBERTIAN && lit(c, vx))
+            direct2(c, p, vx, rec.p, rec.normal, col);
         if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
             return 0;
-        if (m->kind == RT_MAT_LAMBERTIAN)
+        if (m->kind == RT_MAT_LAMBERTIAN) {
             att = col;
+            if (c->r->lights) /* cosine-weighted */
+                vx->pdf = rt_v3_dot(next.dir, rec.normal) / (rt_v3_len(next.dir) * PI);
+        }
     }
     p->thr = rt_v3_mul(p->thr, att);
     p->ray = next;
@@ -213,21 +245,24 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
 {
     const rt_renderer *r = c->r;
     uint64_t segs = 0;
+    vertex v = {0, 0, time, 0.0, &segs};
     for (uint32_t depth = 0; depth < r->job.max_depth; depth++) {
         segs++;
         rt_whit h;
-        const int found = closest2(c, &p->ray, time, &h);
-        rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_BOUNCE_DIMS * depth + RT_SAMPLER2_FLIGHT);
+        const int found = rt_nee_closest(r, &p->ray, time, &h);
+        v.depth = depth;
+        v.base = RT_SAMPLER2_DIM_BOUNCE + c->stride * depth;
+        rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_FLIGHT);
         double tm;
         uint32_t k;
         const int in_medium = c->s->media.media.n && medium_event(c, p, found ? h.t : INFINITY, &tm, &k);
-        rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_BOUNCE_DIMS * depth + RT_SAMPLER2_SCATTER);
+        rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_SCATTER);
         if (in_medium) {
-            scatter_medium(c, p, k, tm);
+            scatter_medium(c, p, &v, k, tm);
         } else if (!found) {
             miss2(c, p);
             break;
-        } else if (!surface2(c, p, &h, time)) {
+        } else if (!surface2(c, p, &h, &v)) {
             break;
         }
         if (!path_roulette(r, p, depth))
@@ -259,7 +294,11 @@ static uint32_t pilot2(const p2 *c, uint64_t *segments)
 
 static p2 context(const rt_renderer *r, uint32_t x, uint32_t y, int aovs)
 {
-    p2 c = {.r = r, .w = r->world, .s = r->scene, .pc = pixel_start(r, x, y, pixel_key(r, x, y), aovs)};
+    p2 c = {.r = r,
+            .w = r->world,
+            .s = r->scene,
+            .pc = pixel_start(r, x, y, pixel_key(r, x, y), aovs),
+            .stride = r->lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS};
     return c;
 }
 

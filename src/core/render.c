@@ -27,6 +27,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->primary = NULL;
     r->lay = rt_job_layout(job);
     r->world = rt_accel_world(a);
+    r->lights = job->light != RT_LIGHT_BRUTE && job->diffuse == RT_DIFFUSE_LAMBERTIAN ? rt_accel_lights(a) : NULL;
     return rt_camera_init(&r->camera, &s->camera, (double)job->width / (double)job->height);
 }
 

@@ -30,8 +30,11 @@
  * (sampler.h's table: a bounce's numbers in request order), and Sobol
  * pairs with a shorter index shuffle and digital shifts instead of
  * coordinate scrambles, at a fraction of version 3's cost (the random
- * sampler's numbers unchanged). */
-#define RT_RENDER_SAMPLING 4u
+ * sampler's numbers unchanged). 5: scenes with emitters sample their
+ * lights (nee.h; sampler.h's lit layout), unless --no-light-sampling,
+ * whose images, and those of every scene without emitters, keep version
+ * 4's bytes. */
+#define RT_RENDER_SAMPLING 5u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts
  * only paths whose throughput has fallen below RT_RENDER_ROULETTE_KEEP in
@@ -97,6 +100,11 @@ typedef struct rt_renderer {
     /* The scene's book-2 content (rt_accel_world), or NULL: then the
      * book-2 path loop (path2.c) renders it. */
     const struct rt_world *world;
+    /* The emitters the book-2 path loop samples (rt_accel_lights), or NULL
+     * (none, --no-light-sampling, or a diffuse model other than the
+     * lambertian one, whose density next-event estimation assumes): then
+     * it finds them by chance, as the book-2 loop always has. */
+    const struct rt_lights *lights;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);

@@ -31,7 +31,16 @@
  *     +1              1D which medium scattered, when several overlap
  *     +2 ...          the material's or the medium's phase function's
  *                     numbers as above (isotropic: 2D direction), then 1D
- *                     the Russian roulette
+ *                     the Russian roulette (at +4 or +5 at most)
+ *   with light sampling (a scene with emitters, not --no-light-sampling),
+ *   the bounce at depth d starts at 6 + 10d instead, and a diffuse vertex
+ *   (lambertian, isotropic) draws before its scattering's numbers:
+ *     +6              1D which light (nee.h, lights.h)
+ *     +8 - +9         2D the direction toward it (a point of a quad, a
+ *                     direction in a sphere's cone)
+ *   (+7 unused: a 2D request takes an even dimension). The brute-force
+ *   loop keeps 8 a bounce: its bytes, and those of scenes without
+ *   emitters, are unchanged.
  *
  * A 2D request takes the next even dimension and the one after it, a 1D
  * request the next dimension. Each bounce starts at its own dimension, so
@@ -99,6 +108,9 @@ static inline int rt_sampler_parse(const char *name)
 #define RT_SAMPLER2_FLIGHT 0u   /* offsets in a bounce */
 #define RT_SAMPLER2_MEDIUM 1u
 #define RT_SAMPLER2_SCATTER 2u
+/* With light sampling (path2.c, nee.h) a bounce takes 10 dimensions: */
+#define RT_SAMPLER2_LIT_BOUNCE_DIMS 10u
+#define RT_SAMPLER2_LIGHT 6u /* 1D which light, then 2D (8-9) the point on it */
 
 /* ---- the Sobol pieces ----------------------------------------------------- */
 

@@ -25,6 +25,8 @@ static const rt_scene_info SCENES[] = {
     {"cornell-smoke", "book 2 ch. 9: the Cornell box with boxes of black and white smoke", 2, 600, 600, 200, 50, 0},
     {"book2-final", "book 2 ch. 10: boxes, lights, fog, glass, the earth, marble and instanced spheres (--seed)", 2,
      800, 800, 10000, 40, 1},
+    {"book3-final", "book 3: the Cornell box with a rotated box, a glass sphere and a light that emits downward only",
+     3, 600, 600, 100, 50, 0},
 };
 #define N_SCENES (sizeof SCENES / sizeof SCENES[0])
 
@@ -77,7 +79,7 @@ int rt_scene_build_named(rt_scene *s, const char *name, uint64_t seed, int grid,
     if (!strcmp(name, "final"))
         return rt_scene_build_final(s, seed, grid);
     for (unsigned i = 0; i < N_SCENES; i++)
-        if (SCENES[i].book == 2 && !strcmp(name, SCENES[i].name))
+        if (SCENES[i].book >= 2 && !strcmp(name, SCENES[i].name))
             return rt_scenes_book2_build(s, name, seed, img);
     rt_scene_init(s); /* camera: origin looking down -z, vfov 90, pinhole */
     int st;

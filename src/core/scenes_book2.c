@@ -258,6 +258,43 @@ static int cornell(rt_scene *s, int smoke)
     return st ? st : cornell_boxes(s, white, smoke);
 }
 
+/* Book 3's final Cornell box: its walls as the book orders and faces
+ * them, a light that emits downward only (its front face), the tall box
+ * and a glass sphere in place of the short one. */
+static int book3_final(rt_scene *s)
+{
+    uint32_t red, white, green, light, glass;
+    int st = mat(s, rt_scene_lambertian(rt_v3(.65, .05, .05)), &red);
+    if (!st)
+        st = mat(s, rt_scene_lambertian(rt_v3(.73, .73, .73)), &white);
+    if (!st)
+        st = mat(s, rt_scene_lambertian(rt_v3(.12, .45, .15)), &green);
+    if (!st)
+        st = mat(s, rt_scene_emitter(rt_v3(15, 15, 15), 0), &light);
+    if (!st)
+        st = mat(s, rt_scene_dielectric(1.5), &glass);
+    const rt_vec3 X = {555, 0, 0}, Y = {0, 555, 0}, Z = {0, 0, 555};
+    const struct {
+        rt_vec3 q, u, v;
+        uint32_t m;
+    } walls[] = {
+        {{555, 0, 0}, Z, Y, green},          {{0, 0, 555}, rt_v3_neg(Z), Y, red}, {{0, 555, 0}, X, Z, white},
+        {{0, 0, 555}, X, rt_v3_neg(Z), white}, {{555, 0, 555}, rt_v3_neg(X), Y, white},
+        {{213, 554, 227}, {130, 0, 0}, {0, 0, 105}, light}, /* u x v points down */
+    };
+    for (size_t i = 0; i < sizeof walls / sizeof walls[0] && !st; i++)
+        st = rt_scene_add_quad(s, walls[i].q, walls[i].u, walls[i].v, walls[i].m, NULL);
+    const rt_xform r1 = rt_xform_rotate_y(15), t1 = rt_xform_translate(rt_v3(265, 0, 295));
+    const rt_xform x1 = rt_xform_then(&r1, &t1);
+    if (!st)
+        st = rt_scene_add_box(s, rt_v3(0, 0, 0), rt_v3(165, 330, 165), white, &x1);
+    if (!st)
+        st = rt_scene_add_sphere(s, rt_v3(190, 90, 190), 90, glass);
+    camera(s, rt_v3(278, 278, -800), rt_v3(278, 278, 0), 40, 0, 0);
+    background(s, rt_v3(0, 0, 0));
+    return st;
+}
+
 /* The final scene: 20 x 20 ground boxes of random heights, a light, a
  * moving sphere, glass and metal, a glass ball filled with blue fog, a thin
  * fog around everything, the earth, a marble sphere and 1000 small white
@@ -353,6 +390,8 @@ int rt_scenes_book2_build(rt_scene *s, const char *name, uint64_t seed, const rt
         st = cornell(s, 0);
     else if (!strcmp(name, "cornell-smoke"))
         st = cornell(s, 1);
+    else if (!strcmp(name, "book3-final"))
+        st = book3_final(s);
     else if (!strcmp(name, "book2-final"))
         st = book2_final(s, seed, img);
     else

@@ -17,7 +17,7 @@
 #include "status.h"
 
 static const uint8_t MAGIC[8] = {'R', 'T', 'C', 'K', 'P', 'T', 0, 0};
-#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 * 4 + 8 + 4)
+#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 * 4 + 8 + 4 + 4)
 
 typedef struct hwriter {
     FILE *fp;
@@ -80,6 +80,7 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
     put_u32(&w, (uint32_t)id->job.roulette);
     put_u32(&w, id->job.aov);
     put_u64(&w, threshold_bits(id->job.noise_threshold));
+    put_u32(&w, id->job.light);
     put_u32(&w, done);
     for (uint32_t y = 0; y < id->job.height; y++)
         put_u32(&w, committed[y]);
@@ -158,6 +159,7 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         {"roulette", get_u32(p + 48), (uint32_t)expect->job.roulette},
         {"denoiser buffers (--aov)", get_u32(p + 52), expect->job.aov},
         {"noise threshold (bits)", get_u64(p + 56), threshold_bits(expect->job.noise_threshold)},
+        {"light sampling (0 on, 1 off)", get_u32(p + 64), expect->job.light},
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         if (fields[i].got != fields[i].want) {
@@ -167,8 +169,8 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
             return RT_EMISMATCH;
         }
     }
-    uint32_t with = get_u32(p + 64);
-    const uint8_t *counts = p + 68;
+    uint32_t with = get_u32(p + 68);
+    const uint8_t *counts = p + 72;
     size_t rowlen = (size_t)expect->job.width * rt_job_layout(&expect->job).ch;
     size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
     uint32_t counted = 0, bad = 0;

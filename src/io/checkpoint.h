@@ -12,7 +12,7 @@
 
 #include "job.h"
 
-#define RT_CKPT_VERSION 5u
+#define RT_CKPT_VERSION 6u /* 6: the light sampling mode (rt_job.light) */
 
 /* Everything that changes a pixel: the job, and what else decides its
  * samples' bits. */

@@ -8,15 +8,6 @@
 
 #include "status.h"
 
-int rt_scene_files_add(rt_scene_files *f, const char *path)
-{
-    (void)f;
-    (void)path;
-    return RT_OK; /* no dumps in this build: nothing refers to the files */
-}
-
-void rt_scene_files_free(rt_scene_files *f) { memset(f, 0, sizeof *f); }
-
 int rt_scene_json_load(rt_scene *s, const char *path, rt_scene_files *files, char *err, size_t errlen)
 {
     (void)s;

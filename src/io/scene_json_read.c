@@ -191,15 +191,6 @@ int rt_json_ref(rt_json_ctx *c, const cJSON *ref, const char *where, const char 
                         below < (uint32_t)cJSON_GetArraySize(table) ? " before this entry" : "");
 }
 
-int rt_json_material_ref(rt_json_ctx *c, const cJSON *ref, const char *where, rt_scene *s, uint32_t *index)
-{
-    if (!cJSON_IsObject(ref))
-        return rt_json_ref(c, ref, where, "materials", c->n_table, index);
-    rt_material m;
-    int st = rt_json_material(c, ref, where, s, &m);
-    return st ? st : rt_json_add_status(c, rt_scene_add_material(s, &m, index), "materials");
-}
-
 /* Calls fn for each element of arr (key, under where). */
 int rt_json_each(rt_json_ctx *c, const cJSON *arr, const char *where, const char *key, rt_json_elem_fn fn, const rt_xform *x,
                 int depth, rt_scene *s)

@@ -1,6 +1,7 @@
 /* scene_json_read.h - what the scene-file readers (scene_json.c: the file,
- * camera, materials, textures, spheres; scene_json_book2.c: book 2's
- * objects, media and instances) share: the parse context, one-line
+ * camera, tables; scene_json_object.c: materials, spheres;
+ * scene_json_book2.c: textures, book 2's objects, media and instances)
+ * share: the parse context, one-line
  * messages naming the field, and strict readers of JSON values. Private
  * to the rtscenejson library. */
 #ifndef RT_SCENE_JSON_READ_H
@@ -79,7 +80,7 @@ int rt_json_ref(rt_json_ctx *c, const cJSON *ref, const char *where, const char 
 /* A material reference: an index into the table, a name, or a material
  * object (added to the scene). */
 int rt_json_material_ref(rt_json_ctx *c, const cJSON *ref, const char *where, rt_scene *s, uint32_t *index);
-/* One material object (scene_json.c). */
+/* One material object. */
 int rt_json_material(rt_json_ctx *c, const cJSON *obj, const char *w, rt_scene *s, rt_material *m);
 
 /* A sphere (moving: a moving sphere) of obj, placed by x; a "frame" only

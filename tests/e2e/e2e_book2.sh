@@ -54,7 +54,9 @@ same_as() { # label ref.png cmd...
     "$@" -q -o "$WORK/t.png" >/dev/null 2>"$WORK/t.err" || { fail "$label: $(head -c 300 "$WORK/t.err")"; return; }
     check_eq "$label: same pixels" "$(px "$WORK/t.png")" "$(px "$ref")"
 }
-for s in book2-final cornell-smoke bouncing-spheres; do
+# Lit scenes sample their lights (a quad; a quad and a sphere in
+# simple-light; through media in cornell-smoke and book2-final), or not.
+for s in book2-final cornell-smoke bouncing-spheres simple-light "cornell-smoke --no-light-sampling"; do
     A=(--scene $s "${T[@]}" --width 48 --height 36 -s 8 --max-depth 12)
     for sm in sobol random; do
         "$BIN" "${A[@]}" --sampler $sm -j 1 -q -o "$WORK/ref-$s-$sm.png" >/dev/null 2>&1
@@ -85,6 +87,8 @@ for ((i = 0; i < 600; i++)); do [ -s "$WORK/res.png.ckpt" ] && break; sleep 0.1;
 kill -TERM $pid
 wait $pid
 check_eq "cornell-box interrupted: exit status" $? 75
+expect_refusal 3 "resumed with --no-light-sampling" "different job (light sampling (0 on, 1 off) 0, this job has 1)" \
+    "$BIN" "${A[@]}" --no-light-sampling -j 2 -o "$WORK/res.png" --resume
 "$BIN" "${A[@]}" -j 2 -o "$WORK/res.png" --resume >"$WORK/res.out" 2>&1
 check_eq "cornell-box resumed: exit status" $? 0
 check_eq "cornell-box resumed: same pixels" "$(px "$WORK/res.png")" "$(px "$WORK/full.png")"

@@ -12,7 +12,7 @@ ARGS=(--width 48 --height 27 -s 4 -j 2 -q)
 check_eq "--list-scenes exit status" $? 0
 check_eq "--list-scenes names by book, one line each" \
     "$(awk '/^[A-Z]/ {print "[" $NF "]"} /^  [a-z]/ {print $1}' "$WORK/list.txt" | tr '\n' ' ')" \
-    "[1):] final diffuse materials defocus [2):] bouncing-spheres checkered-spheres earth perlin-spheres quads simple-light cornell-box cornell-smoke book2-final "
+    "[1):] final diffuse materials defocus [2):] bouncing-spheres checkered-spheres earth perlin-spheres quads simple-light cornell-box cornell-smoke book2-final [3):] book3-final "
 [ ! -s "$WORK/list.err" ] && [ "$(awk '/^  [a-z]/ && NF < 3' "$WORK/list.txt" | wc -l)" -eq 0 ] &&
     pass "--list-scenes: each scene has a description" || fail "--list-scenes output: $(cat "$WORK/list.txt")"
 

@@ -35,11 +35,12 @@ static int centre_hit(const rt_scene *s, rt_rng *rng, double *t)
 
 int main(void)
 {
-    /* The list: book 1's four scenes and book 2's nine, final first, names
-     * unique, one line each; book 1's have no defaults of their own. */
-    CHECK_EQ_INT(rt_scenes_count(), 13);
+    /* The list: book 1's four scenes, book 2's nine and book 3's one, final
+     * first, names unique, one line each; book 1's have no defaults of
+     * their own. */
+    CHECK_EQ_INT(rt_scenes_count(), 14);
     for (unsigned i = 0; i < rt_scenes_count(); i++)
-        CHECK_EQ_INT(rt_scenes_info(i)->book, i < 4 ? 1 : 2);
+        CHECK_EQ_INT(rt_scenes_info(i)->book, i < 4 ? 1 : i < 13 ? 2 : 3);
     CHECK(rt_scenes_info(rt_scenes_count()) == NULL);
     CHECK(!strcmp(rt_scenes_info(0)->name, "final"));
     for (unsigned i = 0; i < rt_scenes_count(); i++) {

@@ -240,7 +240,7 @@ int main(int argc, char **argv)
         return 1;
     }
     int have_embree = rt_accel_new(&embree, &s, RT_ACCEL_EMBREE) == RT_OK;
-    rt_job p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0};
+    rt_job p = {W, H, S, 50, 42, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0, RT_LIGHT_MIS};
     rt_renderer r;
     rt_ray *rays;
     uint32_t *lens;

@@ -1,0 +1,209 @@
+/* lights.c - the light list and its sampling (lights.h). Only +,-,*,/ and
+ * sqrt on the sampling path, and sample.h's turn-based cosine and sine:
+ * the same directions on every machine. */
+#include "lights.h"
+
+#include <stdlib.h>
+
+#include "sample.h"
+#include "status.h"
+#include "warp.h"
+#include "world.h"
+
+#define PI 3.14159265358979323846
+
+typedef struct light {
+    uint64_t key;         /* kind << 32 | index: the list is sorted by it */
+    rt_vec3 a, b, c;      /* quad: q, u, v; sphere: centre at times 0 and 1 (a, b), radius c.x */
+    rt_vec3 n;            /* quad: unit normal */
+    double area;          /* quad */
+    double prob;          /* of being chosen */
+} light;
+
+struct rt_lights {
+    light *items;
+    double *cdf; /* cdf[i]: the probability of choosing a light before i + 1 */
+    uint32_t n;
+};
+
+static double luminance(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+/* The emitter's power per unit area, up to the common factor pi: a
+ * textured emitter counts as white. 0 for a material that emits nothing. */
+static double exitance(const rt_scene *s, uint32_t material)
+{
+    const rt_material *m = &s->materials[material];
+    if (m->kind != RT_MAT_EMITTER)
+        return 0.0;
+    const double lum = m->texture ? 1.0 : luminance(m->emit);
+    return (m->flags & RT_MAT_TWO_SIDED ? 2.0 : 1.0) * (lum > 0.0 ? lum : 0.0);
+}
+
+static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
+{
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0};
+    L.area = 4.0 * PI * radius * radius;
+    return L;
+}
+
+static light quad_light(uint32_t index, const rt_quad *q)
+{
+    const rt_vec3 n = rt_v3_cross(q->u, q->v);
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0};
+    return L;
+}
+
+/* Appends the light when its material emits; the power goes to prob. */
+static void add(light *items, uint32_t *n, light L, double exit)
+{
+    if (exit > 0.0 && L.area > 0.0) {
+        L.prob = exit * L.area;
+        items[(*n)++] = L;
+    }
+}
+
+int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
+{
+    *out = NULL;
+    const size_t most = (size_t)s->n_spheres + s->shapes.quads.n + s->shapes.movers.n;
+    light *items = malloc((most ? most : 1) * sizeof *items);
+    if (!items)
+        return RT_ENOMEM;
+    uint32_t n = 0; /* in key order: spheres, quads, movers (rt_shape_kind), each by index */
+    for (uint32_t i = 0; i < s->n_spheres; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        add(items, &n, sphere_light(RT_SHAPE_SPHERE, i, sp->center, sp->center, sp->radius),
+            exitance(s, sp->material));
+    }
+    for (uint32_t i = 0; i < s->shapes.quads.n; i++)
+        add(items, &n, quad_light(i, &s->shapes.quads.items[i]), exitance(s, s->shapes.quads.items[i].material));
+    for (uint32_t i = 0; i < s->shapes.movers.n; i++) {
+        const rt_mover *m = &s->shapes.movers.items[i];
+        add(items, &n, sphere_light(RT_SHAPE_MOVER, i, m->center0, m->center1, m->radius), exitance(s, m->material));
+    }
+    if (!n) {
+        free(items);
+        return RT_OK;
+    }
+    rt_lights *l = calloc(1, sizeof *l);
+    double *cdf = malloc(n * sizeof *cdf);
+    if (!l || !cdf) {
+        free(items), free(l), free(cdf);
+        return RT_ENOMEM;
+    }
+    double total = 0;
+    for (uint32_t i = 0; i < n; i++)
+        total += rule == RT_LIGHTS_UNIFORM ? 1.0 : items[i].prob;
+    double acc = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        items[i].prob = (rule == RT_LIGHTS_UNIFORM ? 1.0 : items[i].prob) / total;
+        acc += items[i].prob;
+        cdf[i] = acc;
+    }
+    cdf[n - 1] = 1.0;
+    l->items = items;
+    l->cdf = cdf;
+    l->n = n;
+    *out = l;
+    return RT_OK;
+}
+
+void rt_lights_free(rt_lights *l)
+{
+    if (!l)
+        return;
+    free(l->items);
+    free(l->cdf);
+    free(l);
+}
+
+uint32_t rt_lights_count(const rt_lights *l) { return l ? l->n : 0; }
+
+size_t rt_lights_bytes(const rt_lights *l) { return l ? sizeof *l + l->n * (sizeof *l->items + sizeof *l->cdf) : 0; }
+
+static int is_quad(const light *L) { return (uint32_t)(L->key >> 32) == RT_SHAPE_QUAD; }
+
+static rt_vec3 centre(const light *L, double time) { return rt_v3_add(L->a, rt_v3_scale(rt_v3_sub(L->b, L->a), time)); }
+
+/* 1 - cos of the half-angle of the cone sphere L subtends from p (> 0), or
+ * 0 when p is inside it. *w: the unit direction to its centre. */
+static double cone(const light *L, rt_vec3 p, double time, rt_vec3 *w)
+{
+    const rt_vec3 d = rt_v3_sub(centre(L, time), p);
+    const double d2 = rt_v3_len2(d), r = L->c.x;
+    if (!(d2 > r * r))
+        return 0.0;
+    *w = rt_v3_scale(d, 1.0 / sqrt(d2));
+    const double sin2 = r * r / d2;
+    return sin2 / (1.0 + sqrt(1.0 - sin2)); /* 1 - cos without cancellation */
+}
+
+/* The direction density of quad L from p for a ray that meets it at
+ * distance t along unit direction dir. */
+static double quad_pdf(const light *L, rt_vec3 dir, double t)
+{
+    const double c = fabs(rt_v3_dot(dir, L->n));
+    return c > 0.0 ? t * t / (c * L->area) : 0.0;
+}
+
+int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_vec3 *dir,
+                     uint32_t *kind, uint32_t *index)
+{
+    uint32_t lo = 0, hi = l->n - 1; /* the first light whose cdf passes u */
+    while (lo < hi) {
+        const uint32_t mid = (lo + hi) / 2;
+        if (l->cdf[mid] > u)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    const light *L = &l->items[lo];
+    *kind = (uint32_t)(L->key >> 32);
+    *index = (uint32_t)L->key;
+    const double s = rt_warp_unit((uint32_t)(u2 >> 32));
+    if (is_quad(L)) {
+        const rt_vec3 x = rt_v3_madd(rt_v3_madd(L->a, L->b, s), L->c, rt_warp_unit((uint32_t)u2));
+        const rt_vec3 d = rt_v3_sub(x, p);
+        const double len = rt_v3_len(d);
+        if (!(len > 0.0) || rt_v3_dot(d, L->n) == 0.0)
+            return 0;
+        *dir = rt_v3_scale(d, 1.0 / len);
+        return 1;
+    }
+    rt_vec3 w;
+    const double omc_max = cone(L, p, time, &w);
+    if (omc_max == 0.0)
+        return 0;
+    /* cos theta uniform in [cos max, 1]: 1 - cos = s (1 - cos max); the
+     * azimuth by turns; a frame around w (Duff et al.'s, branch on sign) */
+    const double omc = s * omc_max, sin_t = sqrt(omc * (2.0 - omc)), cos_t = 1.0 - omc;
+    double cph, sph;
+    rt_sample_cos_sin_turn((uint32_t)u2, &cph, &sph);
+    const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
+    const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
+    const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
+    *dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
+    return 1;
+}
+
+double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
+                     double t)
+{
+    const uint64_t key = (uint64_t)kind << 32 | index;
+    uint32_t lo = 0, hi = l->n;
+    while (lo < hi) {
+        const uint32_t mid = (lo + hi) / 2;
+        if (l->items[mid].key < key)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    if (lo == l->n || l->items[lo].key != key)
+        return 0.0;
+    const light *L = &l->items[lo];
+    if (is_quad(L))
+        return L->prob * quad_pdf(L, dir, t);
+    rt_vec3 w;
+    const double omc_max = cone(L, p, time, &w);
+    return omc_max > 0.0 ? L->prob / (2.0 * PI * omc_max) : 0.0;
+}

@@ -1,0 +1,107 @@
+/* nee.c - next-event estimation and its MIS weights (nee.h). */
+#include "nee.h"
+
+#include <math.h>
+
+#include "detmath.h"
+#include "lights.h"
+#include "texture.h"
+
+#define T_MIN 0.001 /* path.h's shadow-acne bias, as rt_nee_closest's */
+#define PI 3.14159265358979323846
+
+rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
+{
+    const rt_scene *s = r->scene;
+    const rt_material *m = &s->materials[rt_world_material(r->world, h)];
+    if (m->kind != RT_MAT_EMITTER)
+        return rt_v3(0, 0, 0);
+    rt_surface rec;
+    double u, v;
+    rt_world_surface(r->world, h, ray, time, m->texture != 0, &rec, &u, &v);
+    if (!rec.front_face && !(m->flags & RT_MAT_TWO_SIDED))
+        return rt_v3(0, 0, 0);
+    return rt_texture_albedo(s, rt_world_perlin(r->world), m, u, v, rec.p);
+}
+
+/* exp(-x) for x >= 0: 2^-k e^-f with x = k ln 2 + f, f in [0, ln 2), a
+ * Taylor series to below 1e-16; 0 past 700. No libm. */
+static double neg_exp(double x)
+{
+    if (!(x < 700.0))
+        return 0.0;
+    const double ln2 = 0.69314718055994530942;
+    const int k = (int)(x / ln2);
+    const double f = x - k * ln2;
+    double term = 1.0, sum = 1.0;
+    for (int i = 1; i <= 20; i++) {
+        term *= -f / i;
+        sum += term;
+    }
+    uint64_t b = (uint64_t)(1023 - k) << 52; /* 2^-k, k <= 1010 */
+    double scale;
+    memcpy(&scale, &b, 8);
+    return sum * scale;
+}
+
+/* The transmittance of the media along ray (unit direction) over
+ * (T_MIN, t). */
+static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
+{
+    const rt_scene *s = r->scene;
+    double depth = 0;
+    for (uint32_t k = 0; k < s->media.media.n; k++) {
+        double a, b;
+        if (!rt_world_medium_span(r->world, k, ray, &a, &b))
+            continue;
+        a = a > T_MIN ? a : T_MIN;
+        b = b < t ? b : t;
+        if (b > a)
+            depth += s->media.media.items[k].density * (b - a);
+    }
+    return depth > 0.0 ? neg_exp(depth) : 1.0;
+}
+
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo, double time, rt_sampler *smp,
+                      uint64_t *segments)
+{
+    const rt_vec3 none = {0, 0, 0};
+    const double u = rt_sampler_get1d(smp);
+    const uint64_t u2 = rt_sampler_get2d(smp);
+    rt_ray ray = {p, {0, 0, 0}};
+    uint32_t kind, index;
+    if (!rt_lights_sample(r->lights, p, time, u, u2, &ray.dir, &kind, &index))
+        return none;
+    const int iso = n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
+    const double cosine = iso ? 1.0 : rt_v3_dot(ray.dir, n);
+    if (!(cosine > 0.0)) /* below a lambertian surface: it reflects nothing there */
+        return none;
+    const double pdf_bsdf = iso ? 1.0 / (4.0 * PI) : cosine / PI;
+    ++*segments;
+    rt_whit h;
+    if (!rt_nee_closest(r, &ray, time, &h) || h.kind != kind || h.index != index)
+        return none; /* occluded */
+    const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, kind, index, h.t);
+    if (!(pdf_light > 0.0))
+        return none;
+    const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
+    if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
+        return none;
+    const double w = r->job.light == RT_LIGHT_NEE_ONLY
+                         ? 1.0
+                         : pdf_light * pdf_light / (pdf_light * pdf_light + pdf_bsdf * pdf_bsdf);
+    const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
+    return rt_v3_scale(rt_v3_mul(albedo, le), pdf_bsdf * w * t / pdf_light);
+}
+
+double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time)
+{
+    if (!(pdf_bsdf > 0.0))
+        return 1.0;
+    const double len = rt_v3_len(ray->dir);
+    const double pl = rt_lights_pdf(r->lights, ray->orig, time, rt_v3_scale(ray->dir, 1.0 / len), h->kind,
+                                    h->index, h->t * len);
+    if (r->job.light == RT_LIGHT_NEE_ONLY) /* what NEE cannot reach keeps its BSDF-sampled light */
+        return pl > 0.0 ? 0.0 : 1.0;
+    return pdf_bsdf * pdf_bsdf / (pdf_bsdf * pdf_bsdf + pl * pl);
+}

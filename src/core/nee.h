@@ -1,0 +1,55 @@
+/* nee.h - next-event estimation for the book-2 path loop (path2.c): at a
+ * diffuse vertex (lambertian or isotropic), the light of one emitter
+ * reached by a shadow ray toward it (lights.h), and the weight of the
+ * light a BSDF-sampled ray finds on an emitter; the two strategies are
+ * combined by multiple importance sampling with the power heuristic (the
+ * weights of a direction sum to 1, so the sum is unbiased). A shadow ray
+ * that crosses constant media carries their transmittance
+ * exp(-sum density x length), computed, not sampled: no numbers drawn,
+ * the same bits on every machine (detmath.h). Core-internal. */
+#ifndef RT_NEE_H
+#define RT_NEE_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "accel.h"
+#include "render.h"
+#include "sampler.h"
+#include "world.h"
+
+/* The closest surface of ray at time `time` with t > 0.001 (path.h's
+ * T_MIN): the static spheres' BVH, then the quads and moving spheres up to
+ * its hit (a tie goes to them: a fixed rule); no sphere query in a scene
+ * without static spheres. Inline: the path loop's every segment. */
+static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h)
+{
+    rt_hit sh;
+    const int f = r->scene->n_spheres && rt_accel_closest(r->accel, ray, 0.001, INFINITY, &sh);
+    if (rt_world_closest(r->world, ray, time, 0.001, f ? sh.t : INFINITY, h))
+        return 1;
+    if (!f)
+        return 0;
+    *h = (rt_whit){.t = sh.t, .kind = RT_SHAPE_SPHERE, .index = sh.prim};
+    return 1;
+}
+
+/* Light at vertex p reaching the path through the vertex's scattering:
+ * albedo times the BSDF density pdf_bsdf of the shadow ray's direction
+ * (lambertian about normal n: cos / pi, which is f cos; isotropic, n zero:
+ * 1 / 4pi, which is f), times the emission, over the light's density,
+ * weighted. Draws a 1D and a 2D number from smp (the light and the point).
+ * Adds the shadow ray to *segments. */
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo, double time, rt_sampler *smp,
+                      uint64_t *segments);
+
+/* The weight of the emission a BSDF-sampled ray (from its origin, where
+ * the vertex's BSDF density of its direction was pdf_bsdf) finds at hit h:
+ * 1 after a specular vertex (pdf_bsdf 0). */
+double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time);
+
+/* The emission of emitter hit h seen along ray: its texture's value on its
+ * emitting face(s), else zero. */
+rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time);
+
+#endif

@@ -1,0 +1,169 @@
+/* test_lights.c - light sampling (lights.h, nee.h) is unbiased: a point
+ * on a diffuse plane under a rectangular or a spherical emitter against
+ * the closed form of its irradiance, by light sampling alone, BSDF sampling alone and MIS;
+ * a white furnace whose walls, a sphere and a moving sphere emit, with a
+ * white medium inside (every pixel's radiance is the walls'); the
+ * cornell-box's channel means with and without light sampling. Each
+ * within four standard errors, from the random sampler's independent
+ * samples. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "check.h"
+#include "core_internal.h"
+#include "lights.h"
+#include "scenes.h"
+#include "status.h"
+
+static const char *const MODE[] = {"MIS", "BSDF sampling", "light sampling"};
+
+/* Mean and standard error of n samples of pixel (x, y), channel 0..2. */
+typedef struct stat {
+    double sum[3], sum2[3];
+    uint64_t n;
+} stat;
+
+static void add_pixel(stat *st, const rt_renderer *r, uint32_t x, uint32_t y, uint32_t n)
+{
+    uint64_t segs = 0;
+    double s[3] = {0, 0, 0}, s2[3] = {0, 0, 0};
+    for (uint32_t k = 0; k < n; k++) {
+        const rt_vec3 c = rt_render_sample(r, x, y, k, &segs);
+        const double v[3] = {c.x, c.y, c.z};
+        for (int i = 0; i < 3; i++)
+            s[i] += v[i], s2[i] += v[i] * v[i];
+    }
+    /* the pixel's mean, and its variance over n, for the image's mean */
+    for (int i = 0; i < 3; i++) {
+        st->sum[i] += s[i] / n;
+        st->sum2[i] += (s2[i] / n - (s[i] / n) * (s[i] / n)) / (n - 1);
+    }
+    st->n++;
+}
+static double mean(const stat *st, int i) { return st->sum[i] / (double)st->n; }
+static double se(const stat *st, int i) { return sqrt(st->sum2[i]) / (double)st->n; }
+
+static rt_renderer renderer(const rt_scene *s, rt_accel **a, uint32_t w, uint32_t h, uint32_t depth, uint32_t light)
+{
+    rt_renderer r;
+    CHECK_EQ_INT(rt_accel_new(a, s, RT_ACCEL_BVH), RT_OK);
+    const rt_job job = {w, h, 1, depth, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0, light};
+    CHECK_EQ_INT(rt_render_init(&r, s, *a, &job), RT_OK);
+    return r;
+}
+
+/* The form factor from a point to the rectangle [0, a] x [0, b] parallel
+ * to its plane at height 1, one corner straight above it (odd in a and
+ * in b, so rectangles anywhere follow by adding and subtracting). */
+static double corner(double a, double b)
+{
+    const double ra = sqrt(1 + a * a), rb = sqrt(1 + b * b);
+    return (a / ra * atan(b / ra) + b / rb * atan(a / rb)) / (2 * 3.14159265358979323846);
+}
+
+/* Plane y = 0 (albedo 0.5) seen at the origin under an emitter of
+ * radiance 4: the rectangle x in [0.5, 1.5], z in [-0.5, 0.25] at height
+ * 1, facing down (radiance off the plane: albedo / pi x irradiance =
+ * albedo x L x form factor), or the sphere of radius 0.5 at height 2
+ * (albedo x L x sin^2 of its half-angle). */
+static void check_analytic(int sphere)
+{
+    const double x0 = 0.5, x1 = 1.5, z0 = -0.5, z1 = 0.25, L = 4, rho = 0.5, rs = 0.5, hs = 2;
+    const double want = sphere ? rho * L * rs * rs / (hs * hs)
+                               : rho * L * (corner(x1, z1) - corner(x0, z1) - corner(x1, z0) + corner(x0, z0));
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t white, light;
+    rt_material m = rt_scene_lambertian(rt_v3(rho, rho, rho)), e = rt_scene_emitter(rt_v3(L, L, L), 0);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, &white), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &e, &light), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), white, NULL), RT_OK);
+    if (sphere)
+        CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, hs, 0), rs, light), RT_OK);
+    else
+        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(x0, 1, z0), rt_v3(x1 - x0, 0, 0), rt_v3(0, 0, z1 - z0), light, NULL),
+                     RT_OK);
+    s.background_kind = RT_BACKGROUND_COLOR;
+    s.background = rt_v3(0, 0, 0);
+    s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+    for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_NEE_ONLY; mode++) {
+        rt_accel *a;
+        const rt_renderer r = renderer(&s, &a, 1, 1, 2, mode);
+        CHECK(mode == RT_LIGHT_BRUTE ? r.lights == NULL : r.lights != NULL && rt_lights_count(r.lights) == 1);
+        stat st = {{0}, {0}, 0};
+        add_pixel(&st, &r, 0, 0, 200000);
+        fprintf(stderr, "analytic %s, %s: %.5f, the closed form %.5f (se %.5f)\n", sphere ? "sphere" : "rectangle",
+                MODE[mode], mean(&st, 0), want, se(&st, 0));
+        CHECK_NEAR(mean(&st, 0), want, 4 * se(&st, 0));
+        rt_accel_free(a);
+    }
+    rt_scene_free(&s);
+}
+
+/* A box whose six walls emit 1 from both faces, around a white sphere, a
+ * white floor, a sphere and a moving sphere that emit 1, all in white fog:
+ * radiance 1 everywhere (up to paths longer than the depth limit). */
+static void check_furnace(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t white, wall, glow, fog;
+    rt_material m = rt_scene_lambertian(rt_v3(1, 1, 1)), e = rt_scene_emitter(rt_v3(1, 1, 1), 1),
+                g = rt_scene_emitter(rt_v3(1, 1, 1), 0), f = rt_scene_isotropic(rt_v3(1, 1, 1));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, &white), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &e, &wall), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &g, &glow), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &f, &fog), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_box(&s, rt_v3(-5, -5, -5), rt_v3(5, 5, 5), wall, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 0), 1, white), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(2, 0.5, 0), 0.5, glow), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(-2, 0, 0), rt_v3(-2, 1, 0), 0.5, glow, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-4, -2, -4), rt_v3(8, 0, 0), rt_v3(0, 0, 8), white, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_medium_sphere(&s, rt_v3(0, 0, 0), 3, 0.3, fog), RT_OK);
+    s.background_kind = RT_BACKGROUND_COLOR;
+    s.background = rt_v3(0, 0, 0);
+    s.camera = (rt_camera_desc){rt_v3(0, 0, 4.5), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 70, 0.0, 1.0, RT_PIXELS_BOOK2};
+    rt_accel *a;
+    const rt_renderer r = renderer(&s, &a, 8, 8, 50, RT_LIGHT_MIS);
+    CHECK(r.lights != NULL && rt_lights_count(r.lights) == 8);
+    stat st = {{0}, {0}, 0};
+    for (uint32_t y = 0; y < 8; y++)
+        for (uint32_t x = 0; x < 8; x++)
+            add_pixel(&st, &r, x, y, 4000);
+    fprintf(stderr, "furnace with emitters and fog: %.5f, want 1 (se %.5f)\n", mean(&st, 1), se(&st, 1));
+    CHECK_NEAR(mean(&st, 1), 1.0, 4 * se(&st, 1));
+    rt_accel_free(a);
+    rt_scene_free(&s);
+}
+
+/* The cornell-box's mean colour, with and without light sampling. */
+static void check_cornell(void)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, "cornell-box", 42, 0, NULL), RT_OK);
+    stat st[2] = {{{0}, {0}, 0}, {{0}, {0}, 0}};
+    for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_BRUTE; mode++) {
+        rt_accel *a;
+        const rt_renderer r = renderer(&s, &a, 12, 12, 6, mode);
+        for (uint32_t y = 0; y < 12; y++)
+            for (uint32_t x = 0; x < 12; x++)
+                add_pixel(&st[mode], &r, x, y, mode == RT_LIGHT_MIS ? 512 : 8192);
+        rt_accel_free(a);
+    }
+    for (int i = 0; i < 3; i++) {
+        const double err = sqrt(se(&st[0], i) * se(&st[0], i) + se(&st[1], i) * se(&st[1], i));
+        fprintf(stderr, "cornell-box channel %d: %.5f with light sampling, %.5f without (se %.5f)\n", i,
+                mean(&st[0], i), mean(&st[1], i), err);
+        CHECK_NEAR(mean(&st[0], i), mean(&st[1], i), 4 * err);
+    }
+    rt_scene_free(&s);
+}
+
+int main(void)
+{
+    check_analytic(0);
+    check_analytic(1);
+    check_furnace();
+    check_cornell();
+    CHECK_DONE();
+}
