@@ -24,7 +24,8 @@
 # for the size, samples and depth, and for `srand(BOOK_SEED)` at the start of
 # main (its random numbers come from rand(); seed 1 is its own default), in
 # $BENCH_BOOK_DIR (default build-bench-book/). Both sides trace brute-force
-# paths: rt-mpi runs --no-roulette (the book has no roulette).
+# paths: rt-mpi runs --no-roulette --no-light-sampling (the book has no
+# roulette and samples no lights).
 # Scene names and the book's numbers: bouncing-spheres 1, checkered-spheres
 # 2, earth 3, perlin-spheres 4, quads 5, simple-light 6, cornell-box 7,
 # cornell-smoke 8, book2-final 9.
@@ -150,7 +151,7 @@ for ((r = 1; r <= ROUNDS; r++)); do
     fi
     # shellcheck disable=SC2086 # RTOPTS is a list of options
     wall "$OUT/ours.sec" "$BIN" "${WHAT[@]}" --width "$W" --height "$H" -s "$SPP" \
-        --max-depth "$DEPTH" --no-roulette -j 1 -q $RTOPTS -o "$OUT/ours.png" >"$OUT/ours.txt"
+        --max-depth "$DEPTH" --no-roulette --no-light-sampling -j 1 -q $RTOPTS -o "$OUT/ours.png" >"$OUT/ours.txt"
 done
 tb=$(median <"$OUT/book.sec") to=$(median <"$OUT/ours.sec")
 paths=$((W * H * SPP))
