@@ -132,4 +132,52 @@ static inline __attribute__((always_inline, target("avx"))) int fbox_avx(const f
 }
 #endif
 
+/* The walk's step down a wide node, shared by the sphere tree
+ * (bvh_traverse.h) and the world's (world_traverse.h): of the children the
+ * box test kept (mask, their entry distances tn), the nearest becomes
+ * *code and the others go onto the stack, farthest first, so the stack
+ * pops them nearest first. Returns 0 (nothing pushed) when mask is empty. */
+static inline __attribute__((always_inline)) int fbox_descend(int mask, const float tn[FBOX_WIDTH],
+                                                              const int32_t child[FBOX_WIDTH], int32_t *code,
+                                                              int32_t *stack_node, float *stack_t, int *sp)
+{
+    if (!mask)
+        return 0;
+    int c0 = __builtin_ctz(mask);
+    mask &= mask - 1;
+    if (!mask) { /* one child: go straight on */
+        *code = child[c0];
+        return 1;
+    }
+    int c1 = __builtin_ctz(mask);
+    mask &= mask - 1;
+    if (!mask) { /* two: push the far one */
+        int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
+        stack_node[*sp] = child[far];
+        stack_t[(*sp)++] = tn[far];
+        *code = child[near];
+        return 1;
+    }
+    /* more: sorted by entry distance, far first */
+    int32_t cc[FBOX_WIDTH];
+    float ct[FBOX_WIDTH];
+    int m = 0;
+    for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
+        int k = __builtin_ctz(left), j = m++;
+        while (j > 0 && ct[j - 1] < tn[k]) {
+            ct[j] = ct[j - 1];
+            cc[j] = cc[j - 1];
+            j--;
+        }
+        ct[j] = tn[k];
+        cc[j] = child[k];
+    }
+    for (int q = 0; q < m - 1; q++) {
+        stack_node[*sp] = cc[q];
+        stack_t[(*sp)++] = ct[q];
+    }
+    *code = cc[m - 1];
+    return 1;
+}
+
 #endif

@@ -58,44 +58,8 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
 #else
             mask = fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
 #endif
-            mask &= n->nchild;
-            if (mask) {
-                int c0 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (!mask) { /* one child: go straight on */
-                    code = n->child[c0];
-                    continue;
-                }
-                int c1 = __builtin_ctz(mask);
-                mask &= mask - 1;
-                if (!mask) { /* two: push the far one */
-                    int near = tn[c0] <= tn[c1] ? c0 : c1, far = c0 + c1 - near;
-                    stack_node[sp] = n->child[far];
-                    stack_t[sp++] = tn[far];
-                    code = n->child[near];
-                    continue;
-                }
-                /* more: by entry distance, far first, onto the stack; the nearest next */
-                int32_t cc[WWIDTH];
-                float ct[WWIDTH];
-                int m = 0;
-                for (int left = mask | (1 << c0) | (1 << c1); left; left &= left - 1) {
-                    int k = __builtin_ctz(left), j = m++;
-                    while (j > 0 && ct[j - 1] < tn[k]) {
-                        ct[j] = ct[j - 1];
-                        cc[j] = cc[j - 1];
-                        j--;
-                    }
-                    ct[j] = tn[k];
-                    cc[j] = n->child[k];
-                }
-                for (int q = 0; q < m - 1; q++) {
-                    stack_node[sp] = cc[q];
-                    stack_t[sp++] = ct[q];
-                }
-                code = cc[m - 1];
+            if (fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
                 continue;
-            }
         }
         for (;;) { /* pop the next entry that can still hold a closer hit */
             if (sp == 0)
