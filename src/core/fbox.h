@@ -180,4 +180,21 @@ static inline __attribute__((always_inline)) int fbox_descend(int mask, const fl
     return 1;
 }
 
+/* fbox_descend for a walk that wants any hit, not the nearest: the first
+ * child kept becomes *code, the others go onto the stack as they come. */
+static inline __attribute__((always_inline)) int fbox_descend_any(int mask, const float tn[FBOX_WIDTH],
+                                                                  const int32_t child[FBOX_WIDTH], int32_t *code,
+                                                                  int32_t *stack_node, float *stack_t, int *sp)
+{
+    if (!mask)
+        return 0;
+    *code = child[__builtin_ctz(mask)];
+    for (mask &= mask - 1; mask; mask &= mask - 1) {
+        const int k = __builtin_ctz(mask);
+        stack_node[*sp] = child[k];
+        stack_t[(*sp)++] = tn[k];
+    }
+    return 1;
+}
+
 #endif

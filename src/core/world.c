@@ -233,7 +233,7 @@ static int collapse(rt_world *w, const wnode *bn, uint32_t bid, double margin_ba
             n.bmax[a][k] = round_up(c->hi[a], margin);
         }
         if (c->count) {
-            n.child[k] = ~(int32_t)((c->first << 4) | (c->count - 1));
+            n.child[k] = ~(int32_t)w->items[c->first]; /* LEAF_ITEMS 1 */
         } else {
             const int sub = collapse(w, bn, kids[k], margin_base, depth + 1);
             if (sub < 0)
@@ -258,7 +258,7 @@ static int build_tree(rt_world *w, const box *bx, double extent)
     if (!st) {
         build(&B, bx, tmp, rest, 0, n);
         /* ray origins are rounded to float too: a little more than that */
-        if (collapse(w, B.nodes, 0, 4.0 * extent * FLT_EPSILON, 1) < 0 || n >= (1u << 27)) {
+        if (collapse(w, B.nodes, 0, 4.0 * extent * FLT_EPSILON, 1) < 0 || n >= (1u << 31)) {
             w->n_nodes = 0;
             w->mode = RT_WORLD_BRUTE;
         }

@@ -57,6 +57,19 @@ const rt_perlin *rt_world_perlin(const rt_world *w);
  * force, in any order). Returns 1 and fills *hit on a hit. */
 int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit);
 
+/* Whether a quad or moving sphere stands in front of shape (kind, index)
+ * whose hit is at tmax: 1 when one has tmin < t < tmax, or t == tmax and
+ * it would win the tie in rt_world_closest's rule (every one of them wins
+ * against a static sphere). Stops at the first it finds: shadow rays. */
+int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t kind,
+                      uint32_t index);
+
+/* The t > tmin at which ray (at time `time`) hits shape (kind, index),
+ * with the bits rt_world_closest (or, for a static sphere, rt_accel_closest)
+ * finds; 0 when it misses it. */
+int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_ray *ray, double time, double tmin,
+                     double *t);
+
 /* The span [*t0, *t1] of the whole line orig + t dir inside medium k's
  * boundary (t may be negative); 0 when the line misses it. */
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1);

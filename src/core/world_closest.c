@@ -32,7 +32,11 @@
 #undef WTRAV_AVX
 static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best)
 {
-    return closest_avx(w, ray, time, tmin, best_t, best, 1);
+    return closest_avx(w, ray, time, tmin, best_t, best, 1, 0);
+}
+static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best)
+{
+    return closest_avx(w, ray, time, tmin, best_t, best, 1, 1);
 }
 #ifdef __clang__
 #pragma clang attribute pop
@@ -41,32 +45,61 @@ static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tm
 #endif
 #endif
 
+/* The hit (*best_t, *best) replaced by any nearer item, or as near and
+ * before it, by the mode's walk; with anyhit, returns 1 at the first. */
+static inline __attribute__((always_inline)) int query(const rt_world *w, const rt_ray *ray, double time,
+                                                       double tmin, double *best_t, uint32_t *best, const int anyhit)
+{
+    switch (w->n_nodes ? w->mode : RT_WORLD_BRUTE) {
+#if RT_BVH_HAVE_AVX
+    case RT_WORLD_BVH:
+        return anyhit ? any_avx(w, ray, time, tmin, best_t, best) : walk_avx(w, ray, time, tmin, best_t, best);
+#endif
+    case RT_WORLD_BVH_SSE:
+        return closest_base(w, ray, time, tmin, best_t, best, RT_BVH_HAVE_SSE2, anyhit);
+    case RT_WORLD_BVH_SCALAR:
+        return closest_base(w, ray, time, tmin, best_t, best, 0, anyhit);
+    default: {
+        const double a = rt_v3_len2(ray->dir);
+        for (uint32_t i = 0; i < w->nitems; i++)
+            if (rt_world_test_item(w, i, ray, a, time, tmin, best_t, best) && anyhit)
+                return 1;
+        return 0;
+    }
+    }
+}
+
 int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
 {
     double best_t = tmax;
     uint32_t best = UINT32_MAX;
-    switch (w->n_nodes ? w->mode : RT_WORLD_BRUTE) {
-#if RT_BVH_HAVE_AVX
-    case RT_WORLD_BVH:
-        walk_avx(w, ray, time, tmin, &best_t, &best);
-        break;
-#endif
-    case RT_WORLD_BVH_SSE:
-        closest_base(w, ray, time, tmin, &best_t, &best, RT_BVH_HAVE_SSE2);
-        break;
-    case RT_WORLD_BVH_SCALAR:
-        closest_base(w, ray, time, tmin, &best_t, &best, 0);
-        break;
-    default: {
-        const double a = rt_v3_len2(ray->dir);
-        for (uint32_t i = 0; i < w->nitems; i++)
-            rt_world_test_item(w, i, ray, a, time, tmin, &best_t, &best);
-    }
-    }
+    query(w, ray, time, tmin, &best_t, &best, 0);
     if (best == UINT32_MAX)
         return 0;
     hit->t = best_t;
     hit->kind = best < w->nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER;
     hit->index = best < w->nq ? best : best - w->nq;
     return 1;
+}
+
+int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t kind,
+                      uint32_t index)
+{
+    double best_t = tmax;
+    uint32_t best = kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : UINT32_MAX;
+    return query(w, ray, time, tmin, &best_t, &best, 1);
+}
+
+int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_ray *ray, double time, double tmin,
+                     double *t)
+{
+    if (kind == RT_SHAPE_QUAD)
+        return rt_quad_t(&w->quads[index], ray, tmin, INFINITY, t);
+    const double a = rt_v3_len2(ray->dir);
+    if (kind == RT_SHAPE_MOVER) {
+        const rt_mover *m = &w->s->shapes.movers.items[index];
+        return rt_sphere_root(rt_mover_center(m, time), m->radius * m->radius, ray, a, tmin, t);
+    }
+    const rt_sphere *sp = &w->s->spheres[index];
+    return rt_sphere_root(sp->center, sp->radius * sp->radius, ray, a, tmin, t);
 }

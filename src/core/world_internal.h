@@ -25,8 +25,8 @@ typedef struct quad_x {
 #define WWIDTH FBOX_WIDTH
 
 /* A node of the wide tree: its children's boxes in float, rounded outward
- * (fbox.h), rows x, y, z; a child is a node (code >= 0) or a leaf of items
- * ~code >> 4 .. + (~code & 15) of the leaf order. */
+ * (fbox.h), rows x, y, z; a child is a node (code >= 0) or a leaf, item
+ * ~code (a leaf holds one item: world.c's LEAF_ITEMS). */
 typedef struct wide {
     _Alignas(64) float bmin[3][WWIDTH];
     float bmax[3][WWIDTH];
@@ -39,7 +39,7 @@ struct rt_world {
     quad_x *quads;
     quad_x *hull; /* the media's boundary quads, prepared once */
     uint32_t nq, nitems; /* items: quads 0..nq-1, then the moving spheres */
-    uint32_t *items;     /* leaf order */
+    uint32_t *items;     /* leaf order (the build's) */
     wide *nodes;
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */

@@ -2,7 +2,9 @@
  * world_closest.c once per instruction set: it defines WTRAVERSE (the
  * function's name), with the AVX box test when WTRAV_AVX is 1, else the SSE2
  * one (when the build has SSE2 and the argument `simd` is 1) or the portable
- * one. Not a header to include anywhere else.
+ * one. With `anyhit` it returns 1 at the first item that replaces the hit
+ * (*best_t, *best) it starts from (rt_world_occluded), else 0 when done.
+ * Not a header to include anywhere else.
  *
  * The same walk as the spheres' tree (bvh_traverse.h): ordered depth-first,
  * the nearest child hit next, the others pushed far to near with their
@@ -10,11 +12,12 @@
  * planes chosen once per ray by the direction's signs. The three box tests
  * do the same float operations in the same order, so they visit the same
  * leaves; the leaves' tests are in double (world_internal.h) and their rule
- * does not depend on the order, so every variant and brute force agree. */
+ * does not depend on the order, so every variant and brute force agree.
+ * The any-hit walk takes the children in slot order, unsorted. */
 
 static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, const rt_ray *ray, double time,
                                                             double tmin, double *best_t, uint32_t *best,
-                                                            const int simd)
+                                                            const int simd, const int anyhit)
 {
     const double a = rt_v3_len2(ray->dir);
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
@@ -40,10 +43,9 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
     int32_t code = 0;
     for (;;) {
         if (code < 0) {
-            const uint32_t v = ~(uint32_t)code, first = v >> 4, end = first + (v & 15u) + 1;
-            int any = 0;
-            for (uint32_t k = first; k < end; k++)
-                any |= rt_world_test_item(w, w->items[k], ray, a, time, tmin, best_t, best);
+            const int any = rt_world_test_item(w, ~(uint32_t)code, ray, a, time, tmin, best_t, best);
+            if (any && anyhit)
+                return 1;
             if (any)
                 tfar_f = far_bound(*best_t);
         } else {
@@ -58,7 +60,8 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
 #else
             mask = fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
 #endif
-            if (fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
+            if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp)
+                       : fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
                 continue;
         }
         for (;;) { /* pop the next entry that can still hold a closer hit */

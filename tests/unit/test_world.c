@@ -124,6 +124,60 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
     rt_scene_free(&s);
 }
 
+/* rt_world_occluded and rt_world_shape_t against rt_world_closest: the
+ * closest shape's own t is the hit's, nothing stands in front of it, and
+ * another shape is occluded exactly when the closest hit up to its t is
+ * not that shape. */
+static void check_occluded(const char *name, rt_world_mode mode)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
+    rt_world *w;
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode), RT_OK);
+    rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
+    const uint32_t nq = s.shapes.quads.n, n = nq + s.shapes.movers.n;
+    int agree = 0, blocked = 0;
+    const int N = 5000;
+    const double span = 0.6 * rt_v3_len(rt_v3_sub(s.camera.lookfrom, s.camera.lookat));
+    for (int i = 0; i < N; i++) {
+        const double dist = span * rt_rng_double(&rng);
+        const rt_vec3 o = rt_v3_add(s.camera.lookat, rt_v3_scale(rt_sample_unit_vector(&rng), dist));
+        const double time = rt_rng_double(&rng);
+        const uint32_t item = (uint32_t)(rt_rng_double(&rng) * n);
+        const uint32_t kind = item < nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER, index = item < nq ? item : item - nq;
+        rt_vec3 to; /* a point of the shape (the mover's centre at the time) */
+        if (item < nq) {
+            const rt_quad *q = &s.shapes.quads.items[index];
+            const double fu = rt_rng_double(&rng), fv = rt_rng_double(&rng);
+            to = rt_v3_add(q->q, rt_v3_add(rt_v3_scale(q->u, fu), rt_v3_scale(q->v, fv)));
+        } else {
+            const rt_mover *mv = &s.shapes.movers.items[index];
+            to = rt_v3_add(mv->center0, rt_v3_scale(rt_v3_sub(mv->center1, mv->center0), time));
+        }
+        const rt_ray r = ray_of(o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
+        rt_whit h, c;
+        double t = 0;
+        int ok = 1;
+        if (rt_world_closest(w, &r, time, 0.001, INFINITY, &h)) {
+            ok &= rt_world_shape_t(w, h.kind, h.index, &r, time, 0.001, &t) && t == h.t;
+            ok &= !rt_world_occluded(w, &r, time, 0.001, h.t, h.kind, h.index);
+        }
+        if (rt_world_shape_t(w, kind, index, &r, time, 0.001, &t)) {
+            const int occ = rt_world_occluded(w, &r, time, 0.001, t, kind, index);
+            CHECK_EQ_INT(rt_world_closest(w, &r, time, 0.001, t, &c), 1);
+            ok &= occ == !(c.kind == kind && c.index == index && c.t == t);
+            blocked += occ;
+        }
+        agree += ok;
+    }
+    fprintf(stderr, "%s occluded (mode %d): %d rays, %d agree with the closest hit, %d blocked\n", name, (int)mode,
+            N, agree, blocked);
+    CHECK_EQ_INT(agree, N);
+    CHECK(blocked > N / 50);
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
 /* A rotated and moved box is the book's instance: its corners where the
  * book's rotate_y then translate put them. */
 static void check_instance(void)
@@ -382,7 +436,10 @@ int main(void)
         check_bvh_vs_brute("cornell-smoke", modes[m]);
         check_bvh_vs_brute("bouncing-spheres", modes[m]);
         check_bvh_vs_brute("quads", modes[m]);
+        check_occluded("cornell-box", modes[m]);
+        check_occluded("bouncing-spheres", modes[m]);
     }
+    check_occluded("cornell-smoke", RT_WORLD_BRUTE);
     check_transmittance(0);
     check_transmittance(1);
     check_detmath();
