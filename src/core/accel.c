@@ -126,12 +126,6 @@ int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double t
     }
 }
 
-int rt_accel_occluded(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, uint32_t below)
-{
-    rt_hit h; /* the least (t, index) with t <= tmax: in front when it comes before (tmax, below) */
-    return rt_accel_closest(a, ray, tmin, tmax, &h) && (h.t < tmax || h.prim < below);
-}
-
 const char *rt_accel_name(rt_accel_kind kind)
 {
     switch (kind) {

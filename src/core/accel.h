@@ -35,12 +35,6 @@ void rt_accel_free(rt_accel *a);
  * to call from many threads at once. */
 int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit);
 
-/* Whether a sphere stands in front of a shape whose hit is at tmax: 1 when
- * one has tmin < t < tmax, or t == tmax and an index below `below` (a
- * sphere the shape's tie goes to: rt_sphere_closer's rule; 0 for a shape
- * that wins every tie). Shadow rays. */
-int rt_accel_occluded(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, uint32_t below);
-
 /* "bvh", "brute", "embree", "bvh-scalar", "bvh-sse"; and parsing back (-1
  * when unknown). */
 const char *rt_accel_name(rt_accel_kind kind);

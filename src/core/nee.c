@@ -80,8 +80,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo
     ++*segments;
     rt_whit h = {0.0, kind, index}; /* rt_nee_closest's hit if nothing stands in front of the light */
     if (!rt_world_shape_t(r->world, kind, index, &ray, time, T_MIN, &h.t) ||
-        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, kind, index) ||
-        (r->scene->n_spheres && rt_accel_occluded(r->accel, &ray, T_MIN, h.t, kind == RT_SHAPE_SPHERE ? index : 0)))
+        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, kind, index))
         return none; /* occluded */
     const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, kind, index, h.t);
     if (!(pdf_light > 0.0))

@@ -19,19 +19,12 @@
 #include "world.h"
 
 /* The closest surface of ray at time `time` with t > 0.001 (path.h's
- * T_MIN): the static spheres' BVH, then the quads and moving spheres up to
- * its hit (a tie goes to them: a fixed rule); no sphere query in a scene
- * without static spheres. Inline: the path loop's every segment. */
+ * T_MIN): one walk of the world's tree, which holds the static spheres
+ * too (a tie goes to the quads and moving spheres: a fixed rule). Inline:
+ * the path loop's every segment. */
 static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h)
 {
-    rt_hit sh;
-    const int f = r->scene->n_spheres && rt_accel_closest(r->accel, ray, 0.001, INFINITY, &sh);
-    if (rt_world_closest(r->world, ray, time, 0.001, f ? sh.t : INFINITY, h))
-        return 1;
-    if (!f)
-        return 0;
-    *h = (rt_whit){.t = sh.t, .kind = RT_SHAPE_SPHERE, .index = sh.prim};
-    return 1;
+    return rt_world_closest(r->world, ray, time, 0.001, INFINITY, h);
 }
 
 /* Light at vertex p reaching the path through the vertex's scattering:

@@ -1,5 +1,5 @@
-/* world.c - the world's build: quads and moving spheres in a binary SAH
- * tree of their boxes, collapsed into a wide tree of float boxes
+/* world.c - the world's build: quads, moving and static spheres in a
+ * binary SAH tree of their boxes, collapsed into a wide tree of float boxes
  * (world_closest.c walks it); the media's spans, surface records with
  * (u, v). */
 #include "world_internal.h"
@@ -54,10 +54,13 @@ static box item_box(const rt_world *w, uint32_t i)
         box_point(&b, rt_v3_add(q->q, q->u), pad);
         box_point(&b, rt_v3_add(q->q, q->v), pad);
         box_point(&b, rt_v3_add(rt_v3_add(q->q, q->u), q->v), pad);
-    } else {
+    } else if (i < w->ns) {
         const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
         box_point(&b, m->center0, fabs(m->radius));
         box_point(&b, m->center1, fabs(m->radius));
+    } else {
+        const rt_sphere *sp = &w->s->spheres[i - w->ns];
+        box_point(&b, sp->center, fabs(sp->radius));
     }
     return b;
 }
@@ -297,7 +300,8 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
         w->mode = RT_WORLD_BVH_SSE;
 #endif
     w->nq = s->shapes.quads.n;
-    w->nitems = w->nq + s->shapes.movers.n;
+    w->ns = w->nq + s->shapes.movers.n;
+    w->nitems = w->ns + s->n_spheres;
     rt_perlin_init(&w->perlin, s->tex.noise_seed);
     const size_t n = w->nitems ? w->nitems : 1;
     w->quads = malloc((w->nq ? w->nq : 1) * sizeof *w->quads);

@@ -1,6 +1,6 @@
-/* world.h - what the book-2 path loop needs of a scene beyond its static
- * spheres (which keep the sphere BVH, accel.h): the closest hit among its
- * quads and moving spheres (a BVH of their boxes, or brute force), the
+/* world.h - what the book-2 path loop needs of a scene: the closest hit
+ * among its quads, moving spheres and static spheres (one BVH of their
+ * boxes, or brute force; the spheres' own BVH, accel.h, is book 1's), the
  * spans of a ray inside its media, the hit's surface record with (u, v),
  * and the noise tables. Built with the scene's accelerator (rt_accel_new),
  * for scenes with book-2 content only. */
@@ -51,22 +51,22 @@ void rt_world_free(rt_world *w);
 size_t rt_world_bytes(const rt_world *w);
 const rt_perlin *rt_world_perlin(const rt_world *w);
 
-/* The closest quad or moving sphere (at the ray's time) with
- * tmin < t <= tmax: the least t, of equal ones the quads before the moving
- * spheres and the lower index (the same answer from the BVH and brute
- * force, in any order). Returns 1 and fills *hit on a hit. */
+/* The closest quad, moving sphere (at the ray's time) or static sphere
+ * with tmin < t <= tmax: the least t, of equal ones the quads before the
+ * moving spheres before the static spheres, and the lower index (the same
+ * answer from the BVH and brute force, in any order). Returns 1 and fills
+ * *hit on a hit. */
 int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit);
 
-/* Whether a quad or moving sphere stands in front of shape (kind, index)
- * whose hit is at tmax: 1 when one has tmin < t < tmax, or t == tmax and
- * it would win the tie in rt_world_closest's rule (every one of them wins
- * against a static sphere). Stops at the first it finds: shadow rays. */
+/* Whether a shape stands in front of shape (kind, index) whose hit is at
+ * tmax: 1 when one has tmin < t < tmax, or t == tmax and it would win the
+ * tie in rt_world_closest's rule. Stops at the first it finds: shadow
+ * rays. */
 int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t kind,
                       uint32_t index);
 
 /* The t > tmin at which ray (at time `time`) hits shape (kind, index),
- * with the bits rt_world_closest (or, for a static sphere, rt_accel_closest)
- * finds; 0 when it misses it. */
+ * with the bits rt_world_closest finds; 0 when it misses it. */
 int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_ray *ray, double time, double tmin,
                      double *t);
 

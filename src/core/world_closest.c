@@ -1,4 +1,4 @@
-/* world_closest.c - the closest quad or moving sphere along a ray: brute
+/* world_closest.c - the closest quad, moving or static sphere along a ray: brute
  * force (the oracle), or the wide tree of world.c's build with the box test
  * of the instruction set (world_traverse.h, once per set as bvh.c does). */
 #include "world_internal.h"
@@ -77,8 +77,8 @@ int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double t
     if (best == UINT32_MAX)
         return 0;
     hit->t = best_t;
-    hit->kind = best < w->nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER;
-    hit->index = best < w->nq ? best : best - w->nq;
+    hit->kind = best < w->nq ? RT_SHAPE_QUAD : best < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
+    hit->index = best < w->nq ? best : best < w->ns ? best - w->nq : best - w->ns;
     return 1;
 }
 
@@ -86,7 +86,7 @@ int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double 
                       uint32_t index)
 {
     double best_t = tmax;
-    uint32_t best = kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : UINT32_MAX;
+    uint32_t best = kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : w->ns + index;
     return query(w, ray, time, tmin, &best_t, &best, 1);
 }
 

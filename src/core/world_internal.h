@@ -38,7 +38,7 @@ struct rt_world {
     const rt_scene *s;
     quad_x *quads;
     quad_x *hull; /* the media's boundary quads, prepared once */
-    uint32_t nq, nitems; /* items: quads 0..nq-1, then the moving spheres */
+    uint32_t nq, ns, nitems; /* items: quads 0..nq-1, the moving spheres nq..ns-1, then the static spheres */
     uint32_t *items;     /* leaf order (the build's) */
     wide *nodes;
     uint32_t n_nodes;
@@ -69,7 +69,9 @@ static inline rt_vec3 rt_mover_center(const rt_mover *m, double time)
 }
 
 /* Item i against the ray: replaces (*best_t, *best) when nearer, or as
- * near with a lower item (quads come first); returns 1 if it does. */
+ * near with a lower item (quads, then moving spheres, then static spheres:
+ * the order of rt_world_closest's ties); returns 1 if it does. A static
+ * sphere's t has rt_accel_closest's bits (sphere.h). */
 static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double a, double time,
                                      double tmin, double *best_t, uint32_t *best)
 {
@@ -77,9 +79,12 @@ static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray
     int hit;
     if (i < w->nq) {
         hit = rt_quad_t(&w->quads[i], ray, tmin, *best_t, &t);
-    } else {
+    } else if (i < w->ns) {
         const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
         hit = rt_sphere_root(rt_mover_center(m, time), m->radius * m->radius, ray, a, tmin, &t) && t <= *best_t;
+    } else {
+        const rt_sphere *sp = &w->s->spheres[i - w->ns];
+        hit = rt_sphere_root(sp->center, sp->radius * sp->radius, ray, a, tmin, &t) && t <= *best_t;
     }
     if (hit && (t < *best_t || i < *best)) {
         *best_t = t;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "accel.h"
 #include "check.h"
 #include "core_internal.h"
 #include "detmath.h"
@@ -90,8 +91,10 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
     rt_world *wb, *wf;
     CHECK_EQ_INT(rt_world_build(&wb, &s, mode), RT_OK);
     CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE), RT_OK);
+    rt_accel *acc; /* the spheres' own BVH: the world's static spheres must give its hits */
+    CHECK_EQ_INT(rt_accel_new(&acc, &s, RT_ACCEL_BVH), RT_OK);
     rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
-    int hits = 0, same = 0;
+    int hits = 0, same = 0, spheres = 0, as_accel = 0;
     const int N = 20000;
     const rt_vec3 from = s.camera.lookfrom, at = s.camera.lookat;
     const double span = 0.6 * rt_v3_len(rt_v3_sub(from, at));
@@ -111,14 +114,21 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
         const int hb = rt_world_closest(wf, &r, time, 0.001, INFINITY, &b);
         hits += hb;
         same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index));
+        rt_hit sh; /* the sphere BVH's hit, which the world's must be unless a quad or mover is as near */
+        const int hs = s.n_spheres && rt_accel_closest(acc, &r, 0.001, INFINITY, &sh);
+        spheres += ha && a.kind == RT_SHAPE_SPHERE;
+        as_accel += ha ? (a.kind == RT_SHAPE_SPHERE ? hs && sh.t == a.t && sh.prim == a.index : !hs || sh.t >= a.t)
+                       : !hs;
         if (!(ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index))) && same + 5 > i)
             fprintf(stderr, "  %s ray %d: bvh %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n",
                     name, i, ha, a.t, a.kind, a.index, hb, b.t, b.kind, b.index);
     }
-    fprintf(stderr, "%s (mode %d): %d rays, %d hit, %d the same from BVH and brute force\n", name, (int)mode, N,
-            hits, same);
+    fprintf(stderr, "%s (mode %d): %d rays, %d hit (%d static spheres), %d the same from BVH and brute force, %d as "
+            "the spheres' BVH\n", name, (int)mode, N, hits, spheres, same, as_accel);
     CHECK_EQ_INT(same, N);
+    CHECK_EQ_INT(as_accel, N);
     CHECK(hits > N / 20);
+    rt_accel_free(acc);
     rt_world_free(wb);
     rt_world_free(wf);
     rt_scene_free(&s);
@@ -135,7 +145,7 @@ static void check_occluded(const char *name, rt_world_mode mode)
     rt_world *w;
     CHECK_EQ_INT(rt_world_build(&w, &s, mode), RT_OK);
     rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
-    const uint32_t nq = s.shapes.quads.n, n = nq + s.shapes.movers.n;
+    const uint32_t nq = s.shapes.quads.n, ns = nq + s.shapes.movers.n, n = ns + s.n_spheres;
     int agree = 0, blocked = 0;
     const int N = 5000;
     const double span = 0.6 * rt_v3_len(rt_v3_sub(s.camera.lookfrom, s.camera.lookat));
@@ -144,15 +154,18 @@ static void check_occluded(const char *name, rt_world_mode mode)
         const rt_vec3 o = rt_v3_add(s.camera.lookat, rt_v3_scale(rt_sample_unit_vector(&rng), dist));
         const double time = rt_rng_double(&rng);
         const uint32_t item = (uint32_t)(rt_rng_double(&rng) * n);
-        const uint32_t kind = item < nq ? RT_SHAPE_QUAD : RT_SHAPE_MOVER, index = item < nq ? item : item - nq;
+        const uint32_t kind = item < nq ? RT_SHAPE_QUAD : item < ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
+        const uint32_t index = item < nq ? item : item < ns ? item - nq : item - ns;
         rt_vec3 to; /* a point of the shape (the mover's centre at the time) */
         if (item < nq) {
             const rt_quad *q = &s.shapes.quads.items[index];
             const double fu = rt_rng_double(&rng), fv = rt_rng_double(&rng);
             to = rt_v3_add(q->q, rt_v3_add(rt_v3_scale(q->u, fu), rt_v3_scale(q->v, fv)));
-        } else {
+        } else if (item < ns) {
             const rt_mover *mv = &s.shapes.movers.items[index];
             to = rt_v3_add(mv->center0, rt_v3_scale(rt_v3_sub(mv->center1, mv->center0), time));
+        } else {
+            to = s.spheres[index].center;
         }
         const rt_ray r = ray_of(o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
         rt_whit h, c;
