@@ -283,6 +283,8 @@ static double extent_of(const rt_scene *s, const box *bx, uint32_t n)
     return e;
 }
 
+static void orient_hulls(rt_world *w);
+
 int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
 {
     *out = NULL;
@@ -313,6 +315,8 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
         w->quads[i] = quad_prep(&s->shapes.quads.items[i]);
     for (uint32_t i = 0; i < s->media.hull.n && !st; i++)
         w->hull[i] = quad_prep(&s->media.hull.items[i]);
+    if (!st)
+        orient_hulls(w);
     for (uint32_t i = 0; i < w->nitems && !st; i++) {
         w->items[i] = i;
         bx[i] = item_box(w, i);
@@ -347,6 +351,32 @@ size_t rt_world_bytes(const rt_world *w)
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
 
+/* Turns every medium's hull quads outward (rt_world_medium_span clips the
+ * line by their planes): the normal and offset of a quad whose plane has
+ * the hull's centre (the mean of its faces' centres) on its outer side
+ * change sign, exactly, so each plane's crossing of a line keeps its bits,
+ * and so does rt_quad_t. */
+static void orient_hulls(rt_world *w)
+{
+    const rt_scene *s = w->s;
+    for (uint32_t k = 0; k < s->media.media.n; k++) {
+        const rt_medium *m = &s->media.media.items[k];
+        if (m->shape == RT_MEDIUM_SPHERE || !m->count)
+            continue;
+        rt_vec3 c = {0, 0, 0};
+        for (uint32_t i = m->first; i < m->first + m->count; i++) {
+            const rt_quad *q = &s->media.hull.items[i];
+            c = rt_v3_add(c, rt_v3_add(q->q, rt_v3_scale(rt_v3_add(q->u, q->v), 0.5)));
+        }
+        c = rt_v3_scale(c, 1.0 / m->count);
+        for (uint32_t i = m->first; i < m->first + m->count; i++)
+            if (rt_v3_dot(w->hull[i].n, c) > w->hull[i].d) {
+                w->hull[i].n = rt_v3_neg(w->hull[i].n);
+                w->hull[i].d = -w->hull[i].d;
+            }
+    }
+}
+
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1)
 {
     const rt_medium *m = &w->s->media.media.items[k];
@@ -361,13 +391,25 @@ int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, doubl
         *t1 = (-hb + sq) / a;
         return 1;
     }
-    /* a convex hull: the line enters at its first crossing, leaves at its last */
-    double lo = DBL_MAX, hi = -DBL_MAX, t;
+    /* A convex hull: the line is inside where it is inside every face's
+     * plane, from the last plane it enters to the first it leaves (the
+     * same crossings, by rt_quad_t's formula, as its first and last
+     * crossing of the hull's quads, without testing the quads' edges). A
+     * line along a plane (rt_quad_t's threshold) is inside all or none. */
+    double lo = -DBL_MAX, hi = DBL_MAX;
     for (uint32_t i = m->first; i < m->first + m->count; i++) {
-        if (rt_quad_t(&w->hull[i], ray, -DBL_MAX, DBL_MAX, &t)) { /* the whole line's crossing */
-            lo = fmin(lo, t);
-            hi = fmax(hi, t);
+        const quad_x *q = &w->hull[i];
+        const double denom = rt_v3_dot(q->n, ray->dir), off = q->d - rt_v3_dot(q->n, ray->orig);
+        if (fabs(denom) < 1e-8) {
+            if (off < 0) /* outside this plane all along */
+                return 0;
+            continue;
         }
+        const double t = off / denom;
+        if (denom < 0)
+            lo = t > lo ? t : lo;
+        else
+            hi = t < hi ? t : hi;
     }
     if (!(hi > lo))
         return 0;

@@ -239,6 +239,77 @@ static void check_instance(void)
     rt_scene_free(&s);
 }
 
+/* A hull medium's span (clipped by the hull's planes) against its
+ * definition: the first and last crossing of the line with the hull's
+ * quads, by the book's quad test; the same bits, on cornell-smoke's two
+ * rotated boxes (their quads face out) and on the first again with its
+ * quads facing in, for lines through and around them. */
+static int quads_span(const rt_scene *s, const rt_medium *m, const rt_ray *r, double *t0, double *t1)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (uint32_t i = m->first; i < m->first + m->count; i++) {
+        const rt_quad *q = &s->media.hull.items[i];
+        const rt_vec3 N = rt_v3_cross(q->u, q->v), n = rt_v3_unit(N), w = rt_v3_scale(N, 1.0 / rt_v3_dot(N, N));
+        const double denom = rt_v3_dot(n, r->dir);
+        if (fabs(denom) < 1e-8)
+            continue;
+        const double t = (rt_v3_dot(n, q->q) - rt_v3_dot(n, r->orig)) / denom;
+        const rt_vec3 hp = rt_v3_sub(rt_ray_at(r, t), q->q);
+        const double a = rt_v3_dot(hp, rt_v3_cross(q->v, w)), b = rt_v3_dot(hp, rt_v3_cross(w, q->u));
+        if (a >= 0 && a <= 1 && b >= 0 && b <= 1) {
+            lo = fmin(lo, t);
+            hi = fmax(hi, t);
+        }
+    }
+    *t0 = lo;
+    *t1 = hi;
+    return hi > lo;
+}
+
+static void check_hull_span(void)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, "cornell-smoke", 42, 11, NULL), RT_OK);
+    CHECK_EQ_INT(s.media.media.n, 2);
+    const rt_medium m0 = s.media.media.items[0];
+    rt_quad in[6];
+    CHECK_EQ_INT(m0.count, 6);
+    for (uint32_t i = 0; i < 6; i++) { /* u and v swapped: the normal turns inward */
+        const rt_quad q = s.media.hull.items[m0.first + i];
+        in[i] = (rt_quad){.q = q.q, .u = q.v, .v = q.u};
+    }
+    CHECK_EQ_INT(rt_scene_add_medium_hull(&s, in, 6, m0.density, m0.material, NULL), RT_OK);
+    rt_world *w;
+    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH), RT_OK);
+    rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
+    const int N = 50000;
+    int hits = 0, same = 0;
+    for (int i = 0; i < N; i++) {
+        const rt_vec3 o = rt_v3(rt_rng_range(&rng, -50, 600), rt_rng_range(&rng, -50, 600),
+                                rt_rng_range(&rng, -50, 600));
+        rt_vec3 d = rt_v3_scale(rt_sample_unit_vector(&rng), rt_rng_range(&rng, 0.1, 2));
+        if (i % 16 == 1) /* along the boxes' vertical faces */
+            d = rt_v3(0, 1, 0);
+        const rt_ray r = ray_of(o, d);
+        const uint32_t k = (uint32_t)i % 3u;
+        double a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+        const int ha = rt_world_medium_span(w, k, &r, &a0, &a1);
+        const int hb = quads_span(&s, &s.media.media.items[k], &r, &b0, &b1);
+        hits += hb;
+        const int ok = ha == hb && (!ha || (a0 == b0 && a1 == b1));
+        same += ok;
+        if (!ok && same + 5 > i)
+            fprintf(stderr, "  line %d: clipped %d (%.17g, %.17g), quads %d (%.17g, %.17g)\n", i, ha, a0, a1, hb, b0,
+                    b1);
+    }
+    fprintf(stderr, "cornell-smoke hulls: %d lines, %d through a box, %d spans the same as the quads'\n", N, hits,
+            same);
+    CHECK_EQ_INT(same, N);
+    CHECK(hits > N / 10);
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
 /* The path loop's free flights: a camera ray along -z crosses a black
  * (albedo 0) medium of density d over a length L in front of a white
  * background, so a sample brings 1 when it is not scattered and 0 when
@@ -453,6 +524,7 @@ int main(void)
         check_occluded("bouncing-spheres", modes[m]);
     }
     check_occluded("cornell-smoke", RT_WORLD_BRUTE);
+    check_hull_span();
     check_transmittance(0);
     check_transmittance(1);
     check_detmath();
