@@ -105,6 +105,16 @@ int rt_anim_frame(const rt_scene *s, const rt_anim_opts *a, uint32_t frame, rt_c
     return usable(cam) ? RT_OK : RT_EINVAL;
 }
 
+int rt_anim_span(const rt_scene *s, const rt_anim_opts *a, uint32_t first, uint32_t last, double *t_lo,
+                 double *t_hi)
+{
+    rt_camera_desc cam;
+    double t0, t1;
+    if (last < first || rt_anim_frame(s, a, first, &cam, t_lo, &t1) || rt_anim_frame(s, a, last, &cam, &t0, t_hi))
+        return RT_EINVAL;
+    return RT_OK;
+}
+
 int rt_anim_parse_shutter(const char *text, rt_anim_opts *a)
 {
     char *end;

@@ -33,6 +33,14 @@ typedef struct rt_anim_opts {
 int rt_anim_frame(const rt_scene *s, const rt_anim_opts *a, uint32_t frame, rt_camera_desc *cam, double *t0,
                   double *t1);
 
+/* The rays' times of frames first..last together, [*t_lo, *t_hi]: what
+ * the accelerator must hold moving spheres for (rt_accel_new_span). The
+ * closest hit does not depend on it (ties go to the lower item), so a
+ * frame renders the same bytes in any range. RT_EINVAL as rt_anim_frame,
+ * or for last < first. */
+int rt_anim_span(const rt_scene *s, const rt_anim_opts *a, uint32_t first, uint32_t last, double *t_lo,
+                 double *t_hi);
+
 /* 1 when the scene's camera moves by itself (it has keyframes): a
  * turntable on top of it is refused. */
 int rt_anim_camera_animates(const rt_scene *s);

@@ -6,8 +6,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "accel.h"
 #include "anim.h"
 #include "check.h"
+#include "core_internal.h"
 #include "status.h"
 #include "world.h"
 
@@ -152,7 +154,81 @@ static void test_shutter(void)
     a.shutter_open = 0.75; /* out of order when set directly */
     a.shutter_close = 0.5;
     CHECK_EQ_INT(rt_anim_frame(&s, &a, 3, &d, &t0, &t1), RT_EINVAL);
+    CHECK_EQ_INT(rt_anim_parse_shutter("0.25,0.5", &a), RT_OK); /* frames 2..5 together */
+    CHECK_EQ_INT(rt_anim_span(&s, &a, 2, 5, &t0, &t1), RT_OK);
+    CHECK_NEAR(t0, 2.25, 0);
+    CHECK_NEAR(t1, 5.5, 0);
+    CHECK_EQ_INT(rt_anim_span(&s, NULL, 2, 5, &t0, &t1), RT_OK);
+    CHECK_NEAR(t0, 2, 0);
+    CHECK_NEAR(t1, 6, 0);
+    CHECK_EQ_INT(rt_anim_span(&s, NULL, 5, 2, &t0, &t1), RT_EINVAL);
     rt_scene_free(&s);
+}
+
+/* The sums of a W x H render of s's frame `frame` with the shutter closed
+ * at its start (every ray at time `frame`), the accelerator built for the
+ * times [0, span_hi]; NULL when something failed. */
+static int64_t *render_frame(const rt_scene *s, uint32_t frame, double span_hi)
+{
+    enum { W = 12, H = 8 };
+    const rt_anim_opts a = {.shutter_set = 1};
+    const rt_job j = {.width = W, .height = H, .samples = 4, .max_depth = 8, .seed = 3,
+                      .diffuse = RT_DIFFUSE_LAMBERTIAN, .sampler = RT_SAMPLER_SOBOL, .roulette = 1};
+    rt_camera_desc cam;
+    double t0, t1;
+    rt_accel *acc = NULL;
+    rt_renderer r;
+    int64_t *sums = calloc((size_t)W * H * 3, sizeof *sums);
+    int ok = sums && !rt_anim_frame(s, &a, frame, &cam, &t0, &t1) &&
+             !rt_accel_new_span(&acc, s, RT_ACCEL_BVH, 0.0, span_hi) && !rt_render_init(&r, s, acc, &j) &&
+             !rt_render_frame(&r, &cam, t0, t1);
+    if (ok)
+        rt_render_rows(&r, 0, H, 0, j.samples, sums, 1);
+    rt_accel_free(acc);
+    if (!ok)
+        free(sums);
+    return ok ? sums : NULL;
+}
+
+/* A render of frame 3 sees the moving spheres where time 3 puts them: the
+ * same sums as frame 0 of a scene whose spheres start there and stand
+ * still; and the same whatever the span the accelerator was built for. */
+static void test_render_frame(void)
+{
+    rt_scene moving, still;
+    rt_scene_init(&moving);
+    rt_scene_init(&still);
+    rt_scene *sc[2] = {&moving, &still};
+    for (int k = 0; k < 2; k++) {
+        rt_scene *s = sc[k];
+        s->camera.lookfrom = rt_v3(0, 1, 6);
+        s->camera.lookat = rt_v3(1.5, 0, 0);
+        s->camera.pixels = RT_PIXELS_BOOK2;
+        uint32_t m;
+        rt_material lam = rt_scene_lambertian(rt_v3(0.6, 0.4, 0.3));
+        CHECK_EQ_INT(rt_scene_add_material(s, &lam, &m), RT_OK);
+        for (int i = 0; i < 4; i++) {
+            const rt_vec3 c0 = rt_v3(-1.0 + i * 0.5, 0.25 * i, 0), c1 = rt_v3(-0.5 + i * 0.5, 0.25 * i, -0.25);
+            const rt_vec3 at3 = rt_v3_add(c0, rt_v3_scale(rt_v3_sub(c1, c0), 3.0)); /* rt_mover_center's */
+            CHECK_EQ_INT(k ? rt_scene_add_mover(s, at3, at3, 0.4, m, NULL) : rt_scene_add_mover(s, c0, c1, 0.4, m, NULL),
+                         RT_OK);
+        }
+    }
+    int64_t *a = render_frame(&moving, 3, 4.0), *b = render_frame(&still, 0, 1.0),
+            *c = render_frame(&moving, 3, 100.0), *z = render_frame(&moving, 0, 1.0);
+    const size_t n = 12 * 8 * 3 * sizeof *a;
+    CHECK_EQ_INT(a && b && c && z, 1);
+    if (a && b && c && z) {
+        CHECK_EQ_INT(memcmp(a, b, n), 0);
+        CHECK_EQ_INT(memcmp(a, c, n), 0);
+        CHECK_EQ_INT(memcmp(a, z, n) != 0, 1); /* frame 0 is another picture */
+    }
+    free(a);
+    free(b);
+    free(c);
+    free(z);
+    rt_scene_free(&moving);
+    rt_scene_free(&still);
 }
 
 /* Keys travel in the broadcast bytes (version 3); a scene without keys
@@ -219,5 +295,6 @@ int main(void)
     test_shutter();
     test_bytes();
     test_later_frame();
+    test_render_frame();
     CHECK_DONE();
 }
