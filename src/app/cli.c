@@ -129,6 +129,7 @@ static const optdef OPTS[] = {
     {"noise-threshold", 0, K_SPECIAL, 0, 0, 0},
     {"spp-map", 0, K_PATH, F(spp_map), 0, 0},
     {"aov", 0, K_SPECIAL, 0, 0, 0},
+    {"shutter", 0, K_SPECIAL, 0, 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
     {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
     {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
@@ -209,6 +210,11 @@ static int special(const optdef *d, const char *name, const char *val, rt_option
             return RT_EINVAL;
         }
         o->split = val[0] == 'c' ? RT_SPLIT_COLUMNS : RT_SPLIT_SAMPLES;
+    } else if (!strcmp(d->lng, "shutter")) {
+        if (rt_anim_parse_shutter(val, &o->anim)) {
+            snprintf(err, errlen, "%s: '%s' is not OPEN,CLOSE with 0 <= OPEN <= CLOSE <= 1", name, val);
+            return RT_EINVAL;
+        }
     } else if (!strcmp(d->lng, "aov")) {
         o->job.aov = 0;
         for (const char *p = val; *p;) {

@@ -6,6 +6,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "anim.h"
 #include "job.h"
 #include "schedule.h"
 
@@ -53,6 +54,7 @@ typedef struct rt_options {
     uint64_t given;          /* bit i: option i of cli.c's table was on the command line */
     int bit_depth;          /* 8 or 16 (PNG, PPM) */
     int ppm_ascii;          /* PPM as P3 text */
+    rt_anim_opts anim;      /* --shutter (and the turntable) */
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);

@@ -124,11 +124,19 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
 {
     const rt_farm *f = &rank->farm;
-    int st = rt_accel_new(&s->accel, &s->scene, (rt_accel_kind)o->accel);
+    /* The frame's camera and shutter (a run renders frame 0 today). */
+    rt_camera_desc cam;
+    double t0, t1;
+    int st = rt_anim_frame(&s->scene, &o->anim, 0, &cam, &t0, &t1);
+    if (st)
+        rt_farm_fail(f, RT_EXIT_USAGE, "frame 0's camera: %s", rt_status_str(st));
+    st = rt_accel_new_span(&s->accel, &s->scene, (rt_accel_kind)o->accel, t0, t1);
     if (st)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(o->accel),
                      rt_status_str(st));
     st = rt_render_init(&s->renderer, &s->scene, s->accel, &o->job);
+    if (!st)
+        st = rt_render_frame(&s->renderer, &cam, t0, t1);
     if (st)
         rt_farm_fail(f, RT_EXIT_USAGE, "camera: %s", rt_status_str(st));
     s->renderer.stop = rt_farm_stop_flag();

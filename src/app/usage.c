@@ -72,7 +72,10 @@ static const char sampling[] =
     "                           as an image (gamma 2 in PNG, PPM, BMP; linear in PFM, EXR)\n"
     "      --passes <K>         Progressive: render the samples in K passes over the whole\n"
     "                           image, rewriting a preview after each [default: 1]\n"
-    "      --preview <FILE>     Preview image of --passes [default: the output]\n";
+    "      --preview <FILE>     Preview image of --passes [default: the output]\n"
+    "      --shutter <OPEN,CLOSE>  Rays' time in [frame + OPEN, frame + CLOSE), fractions\n"
+    "                           of a frame, 0 <= OPEN <= CLOSE <= 1 (0,0: no motion blur)\n"
+    "                           [default: 0,1 for scenes with moving spheres, else 0,0]\n";
 
 static const char parallel[] =
     "Parallel:\n"

@@ -42,6 +42,11 @@ static rt_world_mode world_mode(rt_accel_kind kind)
 
 int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
 {
+    return rt_accel_new_span(out, s, kind, 0.0, 1.0);
+}
+
+int rt_accel_new_span(rt_accel **out, const rt_scene *s, rt_accel_kind kind, double t_lo, double t_hi)
+{
     *out = NULL;
     rt_accel *a = calloc(1, sizeof *a);
     if (!a)
@@ -68,7 +73,7 @@ int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind)
         st = RT_EINVAL;
     }
     if (!st && rt_scene_is_book2(s))
-        st = rt_world_build(&a->world, s, world_mode(kind));
+        st = rt_world_build(&a->world, s, world_mode(kind), t_lo, t_hi);
     if (!st && a->world)
         st = rt_lights_build(&a->lights, s, RT_LIGHTS_RULE);
     if (st) {

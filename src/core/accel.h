@@ -28,6 +28,9 @@ typedef struct rt_accel rt_accel;
 /* Builds the structure for scene s (which must outlive it). Returns
  * RT_EUNSUPPORTED for RT_ACCEL_EMBREE in builds without Embree. */
 int rt_accel_new(rt_accel **out, const rt_scene *s, rt_accel_kind kind);
+/* The same for rays whose time is in [t_lo, t_hi] (the frames of a job,
+ * rt_anim_frame's intervals; rt_accel_new: the book's [0, 1]). */
+int rt_accel_new_span(rt_accel **out, const rt_scene *s, rt_accel_kind kind, double t_lo, double t_hi);
 void rt_accel_free(rt_accel *a);
 
 /* Closest sphere hit with tmin < t <= tmax (rt_sphere_closer's rule: the

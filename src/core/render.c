@@ -4,6 +4,8 @@
 #include "render.h"
 #include "core_internal.h"
 
+#include <math.h>
+
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -28,7 +30,16 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->lay = rt_job_layout(job);
     r->world = rt_accel_world(a);
     r->lights = job->light != RT_LIGHT_BRUTE && job->diffuse == RT_DIFFUSE_LAMBERTIAN ? rt_accel_lights(a) : NULL;
-    return rt_camera_init(&r->camera, &s->camera, (double)job->width / (double)job->height);
+    return rt_render_frame(r, &s->camera, 0.0, 1.0);
+}
+
+int rt_render_frame(rt_renderer *r, const rt_camera_desc *cam, double t0, double t1)
+{
+    if (!(t0 <= t1) || !isfinite(t0) || !isfinite(t1))
+        return RT_EINVAL;
+    r->time0 = t0;
+    r->time1 = t1;
+    return rt_camera_init(&r->camera, cam, (double)r->job.width / (double)r->job.height);
 }
 
 rt_vec3 rt_render_sample(const rt_renderer *r, uint32_t x, uint32_t y, uint32_t sample, uint64_t *segments)

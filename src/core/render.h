@@ -105,9 +105,17 @@ typedef struct rt_renderer {
      * lambertian one, whose density next-event estimation assumes): then
      * it finds them by chance, as the book-2 loop always has. */
     const struct rt_lights *lights;
+    /* The book-2 path loop's rays have their time in [time0, time1)
+     * (time0 + u (time1 - time0)): the frame's shutter (anim.h). */
+    double time0, time1;
 } rt_renderer;
 
+/* A renderer of s's camera, its rays' time in the book's [0, 1). */
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);
+/* r renders a frame: camera cam, rays' time in [t0, t1) (rt_anim_frame's);
+ * the accelerator must hold the moving spheres at those times
+ * (rt_accel_new_span). RT_EINVAL for a degenerate camera or t1 < t0. */
+int rt_render_frame(rt_renderer *r, const rt_camera_desc *cam, double t0, double t1);
 
 /* A pixel's count under r's job, from its pilot (whose ray segments are
  * added to *segments). */

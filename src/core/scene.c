@@ -33,6 +33,7 @@ void rt_scene_free(rt_scene *s)
     free(s->tex.textures.items);
     free(s->tex.images.items);
     free(s->tex.texels);
+    free(s->keys.items);
     memset(s, 0, sizeof *s);
 }
 

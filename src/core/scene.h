@@ -167,6 +167,14 @@ typedef enum rt_camera_pixels {
     RT_PIXELS_BOOK2 = 1, /* books 2-3 (v4): pixel centres a pixel apart, jitter in [-0.5, 0.5) */
 } rt_camera_pixels;
 
+/* A camera keyframe (anim.h): the view at time `frame` (a frame number, or
+ * any time between two), pixels aside (the scene's camera keeps those). */
+typedef struct rt_camera_key {
+    double frame;
+    rt_vec3 lookfrom, lookat, vup;
+    double vfov_deg, aperture, focus_dist;
+} rt_camera_key;
+
 typedef struct rt_scene {
     rt_sphere *spheres;
     uint32_t n_spheres;
@@ -181,9 +189,17 @@ typedef struct rt_scene {
     rt_scene_shapes shapes;
     rt_scene_media media;
     rt_scene_textures tex;
+    /* Camera keyframes in increasing frame order (anim.h), at most
+     * RT_SCENE_MAX_KEYS; none: every frame has `camera`. */
+    RT_LIST(rt_camera_key) keys;
 } rt_scene;
 
-#define RT_SCENE_FORMAT_VERSION 2u /* 1: book 1 only (still written for such scenes) */
+/* 1: book 1 only, 2: book 2's content (each still written for such
+ * scenes), 3: version 2 with camera keyframes. */
+#define RT_SCENE_FORMAT_VERSION 3u
+/* Camera keyframes, at most: enough for a hand-made path (a key every
+ * frame of a 40 s clip at 24 frames/s is 960), small to interpolate. */
+#define RT_SCENE_MAX_KEYS 1024u
 #define RT_SCENE_MAX_SPHERES 10000000u
 /* Media in a scene, at most: the book-2 path loop walks a ray through
  * all of them at every segment. */

@@ -1,9 +1,13 @@
 /* scene_bytes.c - the scene's byte format, which rank 0 broadcasts:
  * version 1 for book 1's scenes (unchanged, so their bytes and hashes
- * are), version 2 when a scene has anything of book 2's. Every field is
- * checked on load, through the same add functions the builders use. */
+ * are), version 2 when a scene has anything of book 2's, version 3 when
+ * its camera has keyframes (version 2's bytes, then the keys and their
+ * count just before the checksum). Every field is checked on load,
+ * through the same add functions the builders use. */
 #include "scene.h"
 #include "core_internal.h"
+
+#include "anim.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -107,10 +111,12 @@ static rt_quad get_quad(reader *r)
 #define MEDIUM_BYTES (4 + 24 + 8 + 4 + 4 + 8 + 4)
 #define TEXTURE_BYTES (4 + 24 + 8 + 4 + 4 + 4 + 4)
 #define IMAGE_BYTES (4 + 4)
+#define KEY_BYTES (8 + 3 * 24 + 3 * 8) /* version 3: frame, lookfrom, lookat, vup, vfov, aperture, focus_dist */
 
 typedef struct counts2 {
     uint32_t quads, movers, frames, media, hull, textures, images;
     uint64_t texels;
+    uint32_t keys; /* version 3 */
 } counts2;
 
 /* The bytes of a scene of nm materials and ns spheres (and, in version 2,
@@ -118,7 +124,9 @@ typedef struct counts2 {
 static uint64_t scene_bytes(uint32_t nm, uint32_t ns, const counts2 *k, uint32_t version)
 {
     uint64_t n = HEADER_BYTES + FIXED_BYTES + (uint64_t)nm * MAT_BYTES + (uint64_t)ns * SPHERE_BYTES + 8;
-    if (version == 2)
+    if (version == 3)
+        n += 4 + (uint64_t)k->keys * KEY_BYTES;
+    if (version >= 2)
         n += FIXED2_BYTES + (uint64_t)nm * MAT2_BYTES + (uint64_t)ns * SPHERE2_BYTES + (uint64_t)k->quads * QUAD_BYTES +
              (uint64_t)k->movers * MOVER_BYTES + (uint64_t)k->frames * FRAME_BYTES +
              (uint64_t)k->media * MEDIUM_BYTES + (uint64_t)k->hull * QUAD_BYTES +
@@ -135,7 +143,8 @@ static counts2 counts_of(const rt_scene *s)
                  .hull = s->media.hull.n,
                  .textures = s->tex.textures.n,
                  .images = s->tex.images.n,
-                 .texels = s->tex.n_texels};
+                 .texels = s->tex.n_texels,
+                 .keys = s->keys.n};
     return k;
 }
 
@@ -205,9 +214,42 @@ static void put_book2(writer *w, const rt_scene *s)
     }
 }
 
+static void put_keys(writer *w, const rt_scene *s)
+{
+    for (uint32_t i = 0; i < s->keys.n; i++) {
+        const rt_camera_key *k = &s->keys.items[i];
+        put_f64(w, k->frame);
+        put_v3(w, k->lookfrom);
+        put_v3(w, k->lookat);
+        put_v3(w, k->vup);
+        put_f64(w, k->vfov_deg);
+        put_f64(w, k->aperture);
+        put_f64(w, k->focus_dist);
+    }
+    put_u32(w, s->keys.n);
+}
+
+static int get_keys(reader *r, rt_scene *s, uint32_t n)
+{
+    int st = RT_OK;
+    for (uint32_t i = 0; i < n && !st; i++) {
+        rt_camera_key k;
+        k.frame = get_f64(r);
+        k.lookfrom = get_v3(r);
+        k.lookat = get_v3(r);
+        k.vup = get_v3(r);
+        k.vfov_deg = get_f64(r);
+        k.aperture = get_f64(r);
+        k.focus_dist = get_f64(r);
+        st = rt_anim_add_key(s, &k);
+    }
+    (void)get_u32(r); /* the count, read before */
+    return st ? RT_EFORMAT : RT_OK;
+}
+
 int rt_scene_serialize(const rt_scene *s, uint8_t **buf, size_t *len)
 {
-    const uint32_t version = rt_scene_is_book2(s) || s->shapes.frames.n ? 2u : 1u;
+    const uint32_t version = s->keys.n ? 3u : rt_scene_is_book2(s) || s->shapes.frames.n ? 2u : 1u;
     const counts2 k = counts_of(s);
     const size_t n = (size_t)scene_bytes(s->n_materials, s->n_spheres, &k, version);
     uint8_t *b = malloc(n);
@@ -242,8 +284,10 @@ int rt_scene_serialize(const rt_scene *s, uint8_t **buf, size_t *len)
         put_f64(&w, sp->radius);
         put_u32(&w, sp->material);
     }
-    if (version == 2)
+    if (version >= 2)
         put_book2(&w, s);
+    if (version == 3)
+        put_keys(&w, s);
     put_u64(&w, rt_hash_bytes(RT_HASH_INIT, b, n - 8));
     *buf = b;
     *len = n;
@@ -392,13 +436,19 @@ int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len)
         return RT_EFORMAT;
     reader r = {buf + 8, buf + len, 0};
     uint32_t version = get_u32(&r);
-    if (version != 1 && version != RT_SCENE_FORMAT_VERSION)
+    if (version < 1 || version > RT_SCENE_FORMAT_VERSION)
         return RT_EVERSION;
     uint32_t nm = get_u32(&r), ns = get_u32(&r);
     if (nm > RT_SCENE_MAX_SPHERES || ns > RT_SCENE_MAX_SPHERES)
         return RT_EFORMAT;
-    counts2 k = {0, 0, 0, 0, 0, 0, 0, 0};
-    if (version == 2) { /* the lists' counts, to know the length before reading */
+    counts2 k = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    if (version == 3) { /* the keys' count, just before the checksum */
+        reader rk = {buf + len - 12, buf + len, 0};
+        k.keys = get_u32(&rk);
+        if (k.keys == 0 || k.keys > RT_SCENE_MAX_KEYS)
+            return RT_EFORMAT;
+    }
+    if (version >= 2) { /* the lists' counts, to know the length before reading */
         const uint64_t off = HEADER_BYTES + FIXED_BYTES + (uint64_t)nm * MAT_BYTES + (uint64_t)ns * SPHERE_BYTES;
         if ((uint64_t)len < off + FIXED2_BYTES + 8)
             return RT_EFORMAT;
@@ -456,8 +506,10 @@ int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len)
         if (st == RT_EINVAL)
             st = RT_EFORMAT;
     }
-    if (!st && version == 2)
+    if (!st && version >= 2)
         st = get_book2(&r, s, nm, ns, &k);
+    if (!st && version == 3)
+        st = get_keys(&r, s, k.keys);
     if (!st && (r.bad || !finite3(c->lookfrom) || !finite3(c->lookat) || !finite3(c->vup) ||
                 !(c->vfov_deg > 0 && c->vfov_deg < 180) || !(c->aperture >= 0) || !(c->focus_dist > 0)))
         st = RT_EFORMAT;

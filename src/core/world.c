@@ -58,6 +58,10 @@ static box item_box(const rt_world *w, uint32_t i)
         const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
         box_point(&b, m->center0, fabs(m->radius));
         box_point(&b, m->center1, fabs(m->radius));
+        if (w->t_lo < 0.0) /* the points of times 0 and 1 as they are: the book's boxes, to the bit */
+            box_point(&b, rt_mover_center(m, w->t_lo), fabs(m->radius));
+        if (w->t_hi > 1.0)
+            box_point(&b, rt_mover_center(m, w->t_hi), fabs(m->radius));
     } else {
         const rt_sphere *sp = &w->s->spheres[i - w->ns];
         box_point(&b, sp->center, fabs(sp->radius));
@@ -285,7 +289,7 @@ static double extent_of(const rt_scene *s, const box *bx, uint32_t n)
 
 static void orient_hulls(rt_world *w);
 
-int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
+int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double t_lo, double t_hi)
 {
     *out = NULL;
     rt_world *w = calloc(1, sizeof *w);
@@ -293,6 +297,8 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode)
         return RT_ENOMEM;
     w->s = s;
     w->mode = mode;
+    w->t_lo = t_lo;
+    w->t_hi = t_hi;
 #if RT_BVH_HAVE_AVX
     __builtin_cpu_init();
     if (mode == RT_WORLD_BVH && !__builtin_cpu_supports("avx"))

@@ -46,7 +46,11 @@ typedef enum rt_world_mode {
  * dropped for brute force. */
 #define RT_WORLD_DEPTH_MAX 64
 
-int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode);
+/* The world of s for rays whose time is in [t_lo, t_hi] (a sequence's
+ * frames: the moving spheres move on, linear in time): their boxes hold
+ * them at times 0 and 1 as the book's, and at t_lo and t_hi where those
+ * lie outside. */
+int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double t_lo, double t_hi);
 void rt_world_free(rt_world *w);
 size_t rt_world_bytes(const rt_world *w);
 const rt_perlin *rt_world_perlin(const rt_world *w);

@@ -44,6 +44,7 @@ struct rt_world {
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
     rt_perlin perlin;
+    double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
 };
 
 /* The book's quad test: the plane, then the edge coordinates in [0, 1]. */

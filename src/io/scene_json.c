@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "anim.h"
 #include "array.h"
 #include "camera.h"
 #include "fileio.h"
@@ -22,23 +23,58 @@
 #define PI 3.14159265358979323846
 
 /* The lens, given as aperture or as book v4's defocus_angle. */
-static int parse_lens(rt_json_ctx *c, const cJSON *cam, rt_camera_desc *d)
+static int parse_lens(rt_json_ctx *c, const cJSON *cam, const char *w, rt_camera_desc *d)
 {
     const cJSON *aperture = cJSON_GetObjectItemCaseSensitive(cam, "aperture");
     const cJSON *angle = cJSON_GetObjectItemCaseSensitive(cam, "defocus_angle");
     d->aperture = 0.0;
     if (aperture && angle)
-        return rt_json_fail(c, RT_EFORMAT, "camera", "give the lens as aperture or as defocus_angle, not both");
-    int st = rt_json_opt_number(c, cam, "camera", "aperture", 0.0, RT_JSON_MAX_COORD, RT_JSON_CLOSED, &d->aperture);
+        return rt_json_fail(c, RT_EFORMAT, w, "give the lens as aperture or as defocus_angle, not both");
+    int st = rt_json_opt_number(c, cam, w, "aperture", 0.0, RT_JSON_MAX_COORD, RT_JSON_CLOSED, &d->aperture);
     if (!st && angle) {
         /* a cone of this angle with its apex at the focus plane has a base
          * of diameter 2 focus_dist tan(angle / 2) */
+        char at[240];
+        rt_json_join(at, sizeof at, w, "defocus_angle");
         double deg;
-        st = rt_json_number(c, angle, "camera.defocus_angle", 0.0, 180.0, RT_JSON_OPEN_HI, &deg);
+        st = rt_json_number(c, angle, at, 0.0, 180.0, RT_JSON_OPEN_HI, &deg);
         if (!st)
             d->aperture = 2.0 * d->focus_dist * tan(deg * PI / 360.0);
     }
     return st;
+}
+
+/* A view (the camera's, or a keyframe's: w names it) of obj, whose keys
+ * were checked: lookfrom and lookat, then the optional fields. */
+static int parse_view(rt_json_ctx *c, const cJSON *cam, const char *w, rt_camera_desc *d)
+{
+    int st = rt_json_point(c, cam, w, "lookfrom", &d->lookfrom);
+    if (!st)
+        st = rt_json_point(c, cam, w, "lookat", &d->lookat);
+    if (!st)
+        st = rt_json_member_vec3(c, cam, w, "vup", 0, -RT_JSON_MAX_COORD, RT_JSON_MAX_COORD, &d->vup);
+    if (!st)
+        st = rt_json_opt_number(c, cam, w, "vfov", 0.0, 180.0, RT_JSON_OPEN_LO | RT_JSON_OPEN_HI, &d->vfov_deg);
+    if (st)
+        return st;
+    char at[240];
+    d->focus_dist = rt_v3_len(rt_v3_sub(d->lookfrom, d->lookat));
+    rt_json_join(at, sizeof at, w, "lookat");
+    if (d->focus_dist == 0.0)
+        return rt_json_fail(c, RT_EFORMAT, at, "equals %s.lookfrom (no view direction)", w);
+    st = rt_json_opt_number(c, cam, w, "focus_dist", 0.0, RT_JSON_MAX_COORD, RT_JSON_OPEN_LO, &d->focus_dist);
+    return st ? st : parse_lens(c, cam, w, d);
+}
+
+/* rt_camera_init's check of a view (the camera's or a key's). */
+static int check_view(rt_json_ctx *c, const char *w, const rt_camera_desc *d)
+{
+    char at[240];
+    rt_json_join(at, sizeof at, w, "vup");
+    rt_camera probe;
+    if (rt_camera_init(&probe, d, 1.0) != RT_OK)
+        return rt_json_fail(c, RT_EFORMAT, at, "zero or parallel to the view direction (lookat - lookfrom)");
+    return RT_OK;
 }
 
 static int parse_camera(rt_json_ctx *c, const cJSON *cam, int version, rt_camera_desc *d)
@@ -58,21 +94,7 @@ static int parse_camera(rt_json_ctx *c, const cJSON *cam, int version, rt_camera
         st = rt_json_check_keys(c, cam, w, k);
     }
     if (!st)
-        st = rt_json_point(c, cam, w, "lookfrom", &d->lookfrom);
-    if (!st)
-        st = rt_json_point(c, cam, w, "lookat", &d->lookat);
-    if (!st)
-        st = rt_json_member_vec3(c, cam, w, "vup", 0, -RT_JSON_MAX_COORD, RT_JSON_MAX_COORD, &d->vup);
-    if (!st)
-        st = rt_json_opt_number(c, cam, w, "vfov", 0.0, 180.0, RT_JSON_OPEN_LO | RT_JSON_OPEN_HI, &d->vfov_deg);
-    if (st)
-        return st;
-    d->focus_dist = rt_v3_len(rt_v3_sub(d->lookfrom, d->lookat));
-    if (d->focus_dist == 0.0)
-        return rt_json_fail(c, RT_EFORMAT, "camera.lookat", "equals camera.lookfrom (no view direction)");
-    st = rt_json_opt_number(c, cam, w, "focus_dist", 0.0, RT_JSON_MAX_COORD, RT_JSON_OPEN_LO, &d->focus_dist);
-    if (!st)
-        st = parse_lens(c, cam, d);
+        st = parse_view(c, cam, w, d);
     const cJSON *px = cJSON_GetObjectItemCaseSensitive(cam, "pixels");
     if (!st && px) {
         if (cJSON_IsString(px) && !strcmp(px->valuestring, "book1"))
@@ -82,10 +104,45 @@ static int parse_camera(rt_json_ctx *c, const cJSON *cam, int version, rt_camera
         else
             return rt_json_fail(c, RT_EFORMAT, "camera.pixels", "expected \"book1\" or \"book2\"");
     }
-    rt_camera probe;
-    if (!st && rt_camera_init(&probe, d, 1.0) != RT_OK)
-        return rt_json_fail(c, RT_EFORMAT, "camera.vup", "zero or parallel to the view direction (lookat - lookfrom)");
-    return st;
+    return st ? st : check_view(c, w, d);
+}
+
+/* One of "camera_keys": a frame and a view as the camera's (anim.h). */
+static int parse_key(rt_json_ctx *c, const cJSON *e, const char *w, const rt_xform *x, int depth, rt_scene *s)
+{
+    static const char *const keys[] = {"frame",         "lookfrom",   "lookat", "vup", "vfov", "aperture",
+                                       "defocus_angle", "focus_dist", NULL};
+    (void)x;
+    (void)depth;
+    char at[240];
+    rt_json_join(at, sizeof at, w, "frame");
+    if (s->keys.n >= RT_SCENE_MAX_KEYS)
+        return rt_json_fail(c, RT_EFORMAT, w, "more than %u camera keys", RT_SCENE_MAX_KEYS);
+    rt_camera_key k;
+    rt_camera_desc d = s->camera;
+    d.vup = rt_v3(0, 1, 0);
+    d.vfov_deg = 90.0;
+    int st = rt_json_need_object(c, e, w);
+    if (!st)
+        st = rt_json_check_keys(c, e, w, keys);
+    if (!st)
+        st = rt_json_req_number(c, e, w, "frame", 0.0, 4294967295.0, RT_JSON_CLOSED, &k.frame);
+    if (!st && s->keys.n && !(k.frame > s->keys.items[s->keys.n - 1].frame))
+        st = rt_json_fail(c, RT_EFORMAT, at, "%.17g is not after the previous key's frame (keys in increasing order, "
+                          "each frame once)", k.frame);
+    if (!st)
+        st = parse_view(c, e, w, &d);
+    if (!st)
+        st = check_view(c, w, &d);
+    if (st)
+        return st;
+    k.lookfrom = d.lookfrom;
+    k.lookat = d.lookat;
+    k.vup = d.vup;
+    k.vfov_deg = d.vfov_deg;
+    k.aperture = d.aperture;
+    k.focus_dist = d.focus_dist;
+    return rt_json_add_status(c, rt_anim_add_key(s, &k), w);
 }
 
 static int parse_background(rt_json_ctx *c, const cJSON *bg, int version, rt_scene *s)
@@ -153,10 +210,12 @@ static int parse_noise_seed(rt_json_ctx *c, const cJSON *item, rt_scene *s)
 
 static int parse_root(rt_json_ctx *c, const cJSON *root, rt_scene *s)
 {
-    static const char *const keys1[] = {"version", "camera", "background", "materials", "spheres", NULL};
-    static const char *const keys2[] = {"version",  "camera", "background", "noise_seed", "textures", "materials",
-                                        "frames",   "groups", "spheres",    "moving_spheres", "quads", "boxes",
-                                        "media",    "instances", NULL};
+    static const char *const keys1[] = {"version", "camera", "camera_keys", "background", "materials", "spheres",
+                                        NULL};
+    static const char *const keys2[] = {"version",   "camera",  "camera_keys",    "background", "noise_seed",
+                                        "textures",  "materials", "frames",       "groups",     "spheres",
+                                        "moving_spheres", "quads", "boxes",       "media",      "instances",
+                                        NULL};
     if (!cJSON_IsObject(root))
         return rt_json_fail(c, RT_EFORMAT, "", "expected a JSON object at the top level");
     const cJSON *version = cJSON_GetObjectItemCaseSensitive(root, "version");
@@ -168,7 +227,10 @@ static int parse_root(rt_json_ctx *c, const cJSON *root, rt_scene *s)
         st = rt_json_fail(c, RT_EFORMAT, "version", "this program reads versions 1 and 2");
     if (!st)
         st = parse_camera(c, cJSON_GetObjectItemCaseSensitive(root, "camera"), c->version, &s->camera);
-    const cJSON *item = cJSON_GetObjectItemCaseSensitive(root, "background");
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(root, "camera_keys");
+    if (!st && item)
+        st = rt_json_each(c, item, "", "camera_keys", parse_key, NULL, 0, s);
+    item = cJSON_GetObjectItemCaseSensitive(root, "background");
     if (!st && item)
         st = parse_background(c, item, c->version, s);
     item = cJSON_GetObjectItemCaseSensitive(root, "noise_seed");

@@ -245,6 +245,26 @@ static void put_frames(sbuf *b, const rt_scene *s)
     close_list(b, s->shapes.frames.n);
 }
 
+/* The camera's keyframes (anim.h), when it has any. */
+static void put_keys(sbuf *b, const rt_scene *s)
+{
+    if (!s->keys.n)
+        return;
+    put(b, "  \"camera_keys\": [");
+    for (uint32_t i = 0; i < s->keys.n; i++) {
+        const rt_camera_key *k = &s->keys.items[i];
+        put_num(b, i ? ",\n    {\"frame\": " : "\n    {\"frame\": ", k->frame);
+        put_vec(b, ", \"lookfrom\": [", k->lookfrom);
+        put_vec(b, ", \"lookat\": [", k->lookat);
+        put_vec(b, ", \"vup\": [", k->vup);
+        put_num(b, ", \"vfov\": ", k->vfov_deg);
+        put_num(b, ", \"aperture\": ", k->aperture);
+        put_num(b, ", \"focus_dist\": ", k->focus_dist);
+        put(b, "}");
+    }
+    put(b, "\n  ],\n");
+}
+
 /* Book 1's scenes as version 1 wrote them (the same text, byte for byte). */
 static void put_version1(sbuf *b, const rt_scene *s)
 {
@@ -282,7 +302,9 @@ int rt_scene_json_format(const rt_scene *s, const char *const *image_paths, char
     put_num(&b, ",\n    \"focus_dist\": ", c->focus_dist);
     if (v2)
         put(&b, ",\n    \"pixels\": \"%s\"", c->pixels == RT_PIXELS_BOOK2 ? "book2" : "book1");
-    put_vec(&b, "\n  },\n  \"background\": {\"bottom\": [", s->sky_bottom);
+    put(&b, "\n  },\n");
+    put_keys(&b, s);
+    put_vec(&b, "  \"background\": {\"bottom\": [", s->sky_bottom);
     put_vec(&b, ", \"top\": [", s->sky_top);
     if (!v2) {
         put_version1(&b, s);

@@ -11,6 +11,10 @@
 #      --resume -> final image == direct run
 #   c  preemption: `scontrol requeue` of the running job (Slurm SIGTERMs every
 #      process; srun launcher) -> job runs again, resumes -> final image == direct
+#   d  frames in one job: RT_FRAMES=0-3 (--frames) -> four files of the
+#      output pattern, each == a direct render of that frame alone (--frame N)
+#   e  frames in an array job: --array=0-1 (a frame per task) and
+#      --array=0-3:2 (a chunk of two per task) -> each file == direct
 #
 # Exit 0 all passed, 1 a check failed, 77 skipped (Slurm missing and cannot be
 # installed: not root / no apt).  Every wait is bounded; typical run < 1 min.
@@ -269,6 +273,71 @@ note "b: SIGUSR1 to the batch shell (time-limit warning), mpirun"
 preempt_case b-usr1 mpirun usr1
 note "c: scontrol requeue of the running job (preemption), srun"
 preempt_case c-requeue srun requeue
+
+# ------------------------------------------ d/e: frame sequences
+# book 2's bouncing spheres move with each frame's time, so the frames differ
+FRAME_ARGS="--scene bouncing-spheres --width 32 --height 18 -s 2"
+note "d/e: direct renders of frames 0-3 (${FRAME_ARGS})"
+for f in 0 1 2 3; do
+    # shellcheck disable=SC2086
+    timeout 120 "$BIN" $FRAME_ARGS -q --frame "$f" -o "$WORK/ref_####.png" >"$WORK/ref-frames.txt" 2>&1 ||
+        { fail "d/e: direct render of frame $f failed"; show_log "$WORK/ref-frames.txt"; }
+done
+
+# same_frames NAME FIRST LAST INFO -> pass when NAME_####.png of frames
+# FIRST..LAST are each byte-identical to ref_####.png
+same_frames() {
+    local name=$1 f n bad=""
+    for (( f = $2; f <= $3; f++ )); do
+        n=$(printf '%04d' "$f")
+        cmp -s "$WORK/ref_$n.png" "$WORK/${name}_$n.png" || bad="$bad $n"
+    done
+    if [[ -z $bad ]]; then
+        pass "$name: frames $2-$3 == direct --frame N ($4)"
+    else
+        fail "$name: frames differ from direct (or missing):$bad ($4)"
+    fi
+}
+
+note "d: RT_FRAMES=0-3 in one job"
+j=$(RT_OUTPUT="$WORK/d_####.png" RT_FRAMES=0-3 RT_ARGS="-q $FRAME_ARGS" submit d "$SCRIPT") ||
+    { fail "d: sbatch failed"; j=""; }
+if [[ -n $j ]]; then
+    if ! wait_job "$j" 120; then
+        fail "d: job $j not finished after 120 s (state '$JOB_STATE')"; show_log "$WORK/d-$j.out"
+    elif [[ $JOB_STATE != COMPLETED || $(job_field "$j" ExitCode) != 0:0 ]]; then
+        fail "d: job $j $JOB_STATE exit $(job_field "$j" ExitCode)"; show_log "$WORK/d-$j.out"
+    else
+        same_frames d 0 3 "job $j"
+        grep -q -- '--frames 0-3' "$WORK/d-$j.out" || fail "d: the job did not pass --frames 0-3"
+    fi
+fi
+
+# array_case NAME ARRAY TASKS... : sbatch --array=ARRAY, every task
+# COMPLETED with exit 0, then frames 0-3 (or 0-1) == direct
+array_case() {
+    local name=$1 spec=$2 j t last=0 ok=1; shift 2
+    j=$(RT_OUTPUT="$WORK/${name}_####.png" RT_ARGS="-q $FRAME_ARGS" timeout 30 sbatch --parsable \
+        --chdir="$WORK" --output="$WORK/$name-%A_%a.out" --array="$spec" "$SCRIPT") ||
+        { fail "$name: sbatch --array=$spec failed"; return; }
+    j=${j%%;*}
+    for t in "$@"; do
+        if ! wait_job "${j}_$t" 120; then
+            fail "$name: task ${j}_$t not finished after 120 s (state '$JOB_STATE')"; ok=0
+        elif [[ $JOB_STATE != COMPLETED || $(job_field "${j}_$t" ExitCode) != 0:0 ]]; then
+            fail "$name: task ${j}_$t $JOB_STATE exit $(job_field "${j}_$t" ExitCode)"; ok=0
+        fi
+        (( ok )) || show_log "$WORK/$name-${j}_$t.out"
+        last=$t
+    done
+    (( ok )) || return
+    [[ $spec == *:* ]] && last=$(( last + ${spec##*:} - 1 ))
+    same_frames "$name" 0 "$last" "array job $j, --array=$spec"
+}
+note "e1: --array=0-1, a frame per task"
+array_case e1 0-1 0 1
+note "e2: --array=0-3:2, a chunk of two frames per task"
+array_case e2 0-3:2 0 2
 
 note "done in $((SECONDS - T_START))s"
 echo "$PASSED passed, $FAILED failed"

@@ -156,7 +156,7 @@ int main(int argc, char **argv)
     expect_error("{" CAM "}", "scene.json: spheres: missing");
     expect_error("{" CAM ", \"spheres\": {}}", "scene.json: spheres: expected an array");
     expect_error("{" CAM ", \"spheres\": [], \"lights\": []}",
-                 "scene.json: lights: unknown field (expected one of: version, camera, background, materials, "
+                 "scene.json: lights: unknown field (expected one of: version, camera, camera_keys, background, materials, "
                  "spheres)");
     expect_error("{" CAM ", \"spheres\": [], \"spheres\": []}", "scene.json: spheres: duplicate field");
     expect_error("{" CAM ", \"spheres\": [], \"version\": 3}",
@@ -221,7 +221,7 @@ int main(int argc, char **argv)
     expect_error("{" CAM ", \"materials\": [{\"type\": \"dielectric\"}], \"spheres\": []}",
                  "scene.json: materials[0].ior: missing");
     expect_error("{" CAM ", \"spheres\": [], \"\\u0001\\u00e9x\": 1}",
-                 "scene.json: ???x: unknown field (expected one of: version, camera, background, materials, "
+                 "scene.json: ???x: unknown field (expected one of: version, camera, camera_keys, background, materials, "
                  "spheres)");
 
     /* Files: unreadable ones are RT_EIO with the reason; dumps are atomic. */

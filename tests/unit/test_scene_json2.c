@@ -148,7 +148,7 @@ int main(int argc, char **argv)
                           "\"instances\": [{\"group\": \"g\"}]}",
                  "frame: only at the top level (an instance makes its own frames)");
     expect_error("{\"camera\": {\"lookfrom\": [0, 0, 9], \"lookat\": [0, 0, 0]}, \"spheres\": [], \"quads\": []}",
-                 "s.json: quads: unknown field (expected one of: version, camera, background, materials, spheres)");
+                 "s.json: quads: unknown field (expected one of: version, camera, camera_keys, background, materials, spheres)");
 
     /* Image files: missing is RT_ENOFILE naming the file; a dump refers to it relative to the dump. */
     char dir[] = "/tmp/rt-json2-XXXXXX", path[256];

@@ -37,7 +37,7 @@ static void check_quad(void)
     CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, 0), rt_v3(NAN, 0, 0), rt_v3(0, 1, 0), m, NULL), RT_EINVAL);
     CHECK_EQ_INT(s.shapes.quads.n, 1);
     rt_world *w;
-    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH, 0.0, 1.0), RT_OK);
     rt_whit h;
     rt_ray r = ray_of(rt_v3(2, 1.5, 0), rt_v3(0, 0, -2)); /* |dir| 2: t in units of it */
     CHECK_EQ_INT(rt_world_closest(w, &r, 0, 0.001, INFINITY, &h), 1);
@@ -69,7 +69,7 @@ static void check_mover(void)
     CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(0, 0, -5), rt_v3(4, 0, -5), 1, m, NULL), RT_OK);
     rt_world *w;
     for (int brute = 0; brute < 2; brute++) {
-        CHECK_EQ_INT(rt_world_build(&w, &s, brute ? RT_WORLD_BRUTE : RT_WORLD_BVH), RT_OK);
+        CHECK_EQ_INT(rt_world_build(&w, &s, brute ? RT_WORLD_BRUTE : RT_WORLD_BVH, 0.0, 1.0), RT_OK);
         rt_whit h;
         rt_ray r = ray_of(rt_v3(3, 0, 0), rt_v3(0, 0, -1));
         CHECK_EQ_INT(rt_world_closest(w, &r, 0.0, 0.001, INFINITY, &h), 0); /* at time 0 it is at x = 0 */
@@ -89,8 +89,8 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
     rt_scene s;
     CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
     rt_world *wb, *wf;
-    CHECK_EQ_INT(rt_world_build(&wb, &s, mode), RT_OK);
-    CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wb, &s, mode, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
     rt_accel *acc; /* the spheres' own BVH: the world's static spheres must give its hits */
     CHECK_EQ_INT(rt_accel_new(&acc, &s, RT_ACCEL_BVH), RT_OK);
     rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
@@ -143,7 +143,7 @@ static void check_occluded(const char *name, rt_world_mode mode)
     rt_scene s;
     CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
     rt_world *w;
-    CHECK_EQ_INT(rt_world_build(&w, &s, mode), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
     rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
     const uint32_t nq = s.shapes.quads.n, ns = nq + s.shapes.movers.n, n = ns + s.n_spheres;
     int agree = 0, blocked = 0;
@@ -280,7 +280,7 @@ static void check_hull_span(void)
     }
     CHECK_EQ_INT(rt_scene_add_medium_hull(&s, in, 6, m0.density, m0.material, NULL), RT_OK);
     rt_world *w;
-    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH, 0.0, 1.0), RT_OK);
     rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
     const int N = 50000;
     int hits = 0, same = 0;
