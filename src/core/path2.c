@@ -57,7 +57,7 @@ static void start2(const p2 *c, uint32_t sample, path *p, double *time)
         d = rt_sampler_lens(&p->smp);
     p->ray = rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
     rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_TIME);
-    *time = rt_sampler_get1d(&p->smp);
+    *time = r->t0 + rt_sampler_get1d(&p->smp) * (r->t1 - r->t0);
 }
 
 typedef struct span {

@@ -105,6 +105,10 @@ typedef struct rt_renderer {
      * lambertian one, whose density next-event estimation assumes): then
      * it finds them by chance, as the book-2 loop always has. */
     const struct rt_lights *lights;
+    /* The rays' time of this frame: a path's time is t0 + u (t1 - t0) for
+     * its time number u in [0, 1) (the book-2 loop); 0 and 1 after
+     * rt_render_init (u itself, exactly), a frame's from rt_anim_frame. */
+    double t0, t1;
 } rt_renderer;
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job);
