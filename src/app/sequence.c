@@ -48,15 +48,31 @@ static void free_frame(rt_run *run)
     memset(&run->result, 0, sizeof run->result);
 }
 
+/* The range so far, for the progress line and its ETA over the whole range. */
+typedef struct range {
+    double t0;              /* the job's start */
+    uint32_t index, frames; /* this frame's place in the range */
+    uint64_t base_rows;     /* rows done before this run: skipped frames, restored rows */
+    uint64_t segments;      /* of the frames rendered so far */
+} range;
+
 /* Frame `frame` with the frame's options fo: rendered, then written (rank 0). */
-static void render_frame(rt_run *run, const rt_options *fo)
+static void render_frame(rt_run *run, const rt_options *fo, range *g)
 {
     rt_run_rank *rank = &run->rank;
     rt_run_setup *setup = &run->setup;
     const double t0 = rt_now();
     rt_run_frame_camera(fo, rank, setup, fo->frame);
-    if (rank->root)
+    if (rank->root) {
         rt_run_root_init(fo, rank, setup, &run->root);
+        rt_progress *p = &run->root.progress;
+        const uint64_t h = fo->job.height;
+        g->base_rows += run->root.rows_restored;
+        *p = (rt_progress){.enabled = p->enabled, .tty = p->tty, .t0 = g->t0, .last = p->last,
+                           .total_rows = h * g->frames, .base_rows = g->base_rows, .pass = 1, .passes = 1,
+                           .offset_rows = h * g->index, .offset_segments = g->segments, .frame_rows = h,
+                           .frame_index = g->index, .frames = g->frames};
+    }
     run->result.setup = rt_now() - t0;
     rt_farm_render(&rank->farm, &setup->job, rank->root ? &run->root.own : NULL, &run->result.farm);
     rt_mem_settle(&run->root.fb);
@@ -64,6 +80,7 @@ static void render_frame(rt_run *run, const rt_options *fo)
         rt_run_cmd fc = run->cmd; /* the frame's copy: its files, its number */
         fc.opt = *fo;
         rt_run_finish(&fc, rank, setup, &run->root, &run->result);
+        g->segments += run->result.farm.segments;
     }
     free_frame(run);
 }
@@ -74,6 +91,7 @@ void rt_run_frames(rt_run *run)
     const rt_run_rank *rank = &run->rank;
     const uint32_t n = rt_frames_count(&o->frames);
     uint32_t resume = UINT32_MAX;
+    range g = {.t0 = rt_now(), .frames = n};
     if (rank->root && o->resume)
         resume = resumed_frame(o, rank, &run->setup);
     rt_frame_paths *paths = malloc(sizeof *paths);
@@ -86,7 +104,9 @@ void rt_run_frames(rt_run *run)
             rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "frame %u: file name too long", frame);
         int skip = rank->root && o->resume && access(fo.output, F_OK) == 0; /* written: temp + rename */
         rt_farm_bcast_int(&rank->farm, &skip);
+        g.index = i;
         if (skip) {
+            g.base_rows += o->job.height;
             if (rank->root && !o->quiet)
                 fprintf(stderr, "rt-mpi: frame %u: %s is written, skipped (--resume)\n", frame, fo.output);
             continue;
@@ -94,7 +114,7 @@ void rt_run_frames(rt_run *run)
         fo.resume = o->resume && frame == resume;
         fo.keep_checkpoint = 1; /* removed once the last frame is written */
         fo.done_file = i + 1 < n ? NULL : o->done_file;
-        render_frame(run, &fo);
+        render_frame(run, &fo, &g);
     }
     free(paths);
     if (rank->root && o->checkpoint && !o->keep_checkpoint)

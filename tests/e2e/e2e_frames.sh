@@ -76,6 +76,10 @@ for f in 0 1 2; do alone bounce "$f" "${B[@]}"; done
 cmp -s "$WORK/alone_bounce_0.png" "$WORK/alone_bounce_1.png" && fail "frames 0 and 1 of the moving spheres are the same" ||
     pass "frames 0 and 1 of the moving spheres differ"
 same_frames "moving spheres -j 1" bounce 0 2 1 "$BIN" "${B[@]}" -j 1 --frames 0-2
+# the progress line counts the rows of the whole range (its last, of frame 3 of 3)
+"$BIN" --scene bouncing-spheres --width 40 --height 24 -s 4 --max-depth 8 -j 2 --frames 0-2 -o "$WORK/seq/p_#.png" >/dev/null 2>"$WORK/seq.err"
+check_eq "progress over the whole range: last line" "$(grep -o 'frame [0-9/]* rows [0-9/]* ([0-9.]*%)' "$WORK/seq.err" | tail -1)" \
+    "frame 3/3 rows 72/72 (100.0%)"
 if [ -n "$MPIRUN" ]; then
     same_frames "turntable -np 1" turn 1 5 2 mpirun_np 1 "$BIN" "${T[@]}" -j 2 --frames 1-5:2
     same_frames "turntable -np 2 --band 3" turn 1 5 2 mpirun_np 2 "$BIN" "${T[@]}" -j 1 --band 3 --frames 1-5:2
