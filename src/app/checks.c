@@ -70,7 +70,7 @@ rt_exit_code rt_run_check(rt_run_cmd *cmd, rt_run_rank *rank, char *err, size_t 
         o->checkpoint = cmd->ckpt_default;
     }
     rt_exit_code code = RT_EXIT_OK;
-    if (rank->root && rt_cli_check_output(o, err, errlen) != RT_OK)
+    if (rank->root && (o->frame_job ? rt_cli_frames_check(o, err, errlen) : rt_cli_check_output(o, err, errlen)) != RT_OK)
         code = RT_EXIT_USAGE;
     if (!code && rank->root && check_memory(&o->job, err, errlen) != 0)
         code = RT_EXIT_USAGE;

@@ -130,6 +130,9 @@ static const optdef OPTS[] = {
     {"spp-map", 0, K_PATH, F(spp_map), 0, 0},
     {"aov", 0, K_SPECIAL, 0, 0, 0},
     {"shutter", 0, K_SPECIAL, 0, 0, 0},
+    {"frames", 0, K_SPECIAL, 0, 0, 0},
+    {"frame", 0, K_SPECIAL, 0, 0, 0},
+    {"turntable", 0, K_SPECIAL, 0, 0, 0},
     {"serve-only", 0, K_FLAG, F(serve_only), 0, 0},
     {"empty-units", 0, K_FLAG, F(empty_units), 0, 0},
     {"list-scenes", 0, K_ACTION, RT_CLI_LIST_SCENES, 0, 0},
@@ -170,6 +173,8 @@ static int real(const char *val, double lo, double hi, int above_lo, double *out
 static int special(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
 {
     int k;
+    if (!strcmp(d->lng, "frames") || !strcmp(d->lng, "frame") || !strcmp(d->lng, "turntable"))
+        return rt_cli_frames_option(d->lng, name, val, o, err, errlen);
     if (!strcmp(d->lng, "accel")) {
         if ((k = rt_accel_parse(val)) < 0) {
             snprintf(err, errlen, "%s: '%s' is not one of bvh, brute, embree, bvh-scalar, bvh-sse", name, val);
@@ -435,7 +440,7 @@ static int settle_run(rt_options *o, char *err, size_t errlen)
                  (unsigned long long)MAX_PIXELS);
         return RT_EINVAL;
     }
-    return RT_OK;
+    return rt_cli_frames_settle(o, err, errlen);
 }
 
 rt_cli_action rt_cli_parse(int argc, char **argv, rt_options *o, char *err, size_t errlen)

@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "anim.h"
+#include "frames.h"
 #include "job.h"
 #include "schedule.h"
 
@@ -54,7 +55,12 @@ typedef struct rt_options {
     uint64_t given;          /* bit i: option i of cli.c's table was on the command line */
     int bit_depth;          /* 8 or 16 (PNG, PPM) */
     int ppm_ascii;          /* PPM as P3 text */
-    rt_anim_opts anim;      /* --shutter (and the turntable) */
+    /* A frame job (issue 37): --frames A-B[:STEP] or --frame N given; then
+     * --output, --spp-map, --stats and --trace are patterns (frames.h). */
+    int frame_job;
+    rt_frames frames;
+    rt_anim_opts anim;      /* --turntable (and --shutter) */
+    uint32_t frame;         /* a frame's copy of the options (rt_cli_frames_paths): its number */
 } rt_options;
 
 void rt_cli_defaults(rt_options *o);
@@ -76,6 +82,26 @@ int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
  * directory): RT_OK, else the status (RT_EINVAL, RT_ENOENT, RT_EACCESS)
  * and a message naming opt. */
 int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen);
+
+/* cli_frames.c: the frame job's options. */
+/* --frames, --frame, --turntable (lng without "--", name as given): RT_OK,
+ * or RT_EINVAL with err filled. */
+int rt_cli_frames_option(const char *lng, const char *name, const char *val, rt_options *o, char *err, size_t errlen);
+/* Combinations that make no sense, once every option is read. */
+int rt_cli_frames_settle(const rt_options *o, char *err, size_t errlen);
+/* The per-frame files of a frame job: the patterns of --output, --spp-map,
+ * --stats, --trace for one frame. */
+#define RT_FRAME_PATTERNS 4
+typedef struct rt_frame_paths {
+    char path[RT_FRAME_PATTERNS][4096];
+} rt_frame_paths;
+/* fo = o for frame `frame`: its number and its files (in p, which must
+ * outlive fo). RT_EINVAL or RT_EOVERFLOW as rt_frames_path. */
+int rt_cli_frames_paths(const rt_options *o, uint32_t frame, rt_options *fo, rt_frame_paths *p);
+/* Rank 0 before a frame job: the first frame's files can be created (as
+ * rt_cli_check_output), no '#' in a directory, and no two files of the job
+ * (patterns, checkpoint, done file) the same. */
+int rt_cli_frames_check(const rt_options *o, char *err, size_t errlen);
 
 /* Usage text for --help, grouped by topic; also the man page's source. */
 const char *rt_cli_usage(void);

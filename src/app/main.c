@@ -97,6 +97,10 @@ int main(int argc, char **argv)
      * framebuffer, the restored checkpoint and the hooks. */
     rt_run_renderer(o, rank, setup);
     rt_run_job(o, rank, setup);
+    if (o->frame_job) { /* 4-6 for each frame of the range */
+        rt_run_frames(&run);
+        return stop(&run, 0, "");
+    }
     if (rank->root)
         rt_run_root_init(o, rank, setup, &run.root);
     run.result.setup = rt_now() - t_scene;

@@ -16,6 +16,9 @@ void rt_progress_init(rt_progress *p, uint64_t total_rows, int quiet)
     p->total_rows = total_rows ? total_rows : 1;
     p->pass = p->passes = 0;
     p->base_rows = 0;
+    p->offset_rows = p->offset_segments = 0;
+    p->frame_rows = p->total_rows;
+    p->frame_index = p->frames = 0;
 }
 
 static void fmt_time(char *buf, size_t n, double s)
@@ -40,9 +43,11 @@ static void print_line(rt_progress *p, uint64_t rows_done, uint64_t segments, do
     char e[32], r[32];
     fmt_time(e, sizeof e, el);
     fmt_time(r, sizeof r, eta);
-    char passbuf[32] = "";
+    char passbuf[48] = "";
     if (p->passes > 1)
         snprintf(passbuf, sizeof passbuf, "pass %d/%d ", p->pass, p->passes);
+    else if (p->frames)
+        snprintf(passbuf, sizeof passbuf, "frame %u/%u ", p->frame_index + 1, p->frames);
     fprintf(stderr, "%s%srows %llu/%llu (%5.1f%%)  elapsed %s  eta %s  %.2f Mrays/s%s", p->tty ? "\r" : "",
             passbuf, (unsigned long long)rows_done, (unsigned long long)p->total_rows, 100.0 * frac, e, r,
             el > 0 ? (double)segments / el / 1e6 : 0.0, p->tty ? (final ? "\n" : "\033[K") : "\n");
@@ -58,12 +63,12 @@ void rt_progress_update(rt_progress *p, uint64_t rows_done, uint64_t segments)
     if (now - p->last < interval)
         return;
     p->last = now;
-    print_line(p, rows_done, segments, now, 0);
+    print_line(p, p->offset_rows + rows_done, p->offset_segments + segments, now, 0);
 }
 
 void rt_progress_finish(rt_progress *p, uint64_t segments)
 {
     if (!p->enabled)
         return;
-    print_line(p, p->total_rows, segments, rt_now(), 1);
+    print_line(p, p->offset_rows + p->frame_rows, p->offset_segments + segments, rt_now(), 1);
 }

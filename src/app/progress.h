@@ -11,6 +11,10 @@ typedef struct rt_progress {
     uint64_t total_rows;
     uint64_t base_rows; /* rows restored from a checkpoint: not part of the rate */
     int pass, passes;
+    /* A frame job's line covers the whole range: rows and ray segments of
+     * the earlier frames come before this frame's (0 for one image). */
+    uint64_t offset_rows, offset_segments, frame_rows;
+    uint32_t frame_index, frames; /* frames 0: one image */
 } rt_progress;
 
 

@@ -39,6 +39,8 @@ typedef struct rt_run_summary {
     rt_report_origin origin;
     const rt_farm_result *farm; /* rank 0's serving, lost ranks */
     const struct rt_spp_stats *spp; /* adaptive sampling, or NULL */
+    int frame_job;  /* a frame of a frame job: its number is recorded */
+    uint32_t frame;
 } rt_run_summary;
 
 /* Where adaptive sampling put the samples: the mean per pixel, and how

@@ -103,8 +103,13 @@ rt_exit_code rt_run_dump_scene(const rt_options *o);
 rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen);
 /* Every rank: intersector, camera, camera-ray lists. Fails the job itself. */
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
+/* Every rank, in a frame job: the renderer's camera, time interval and
+ * camera-ray lists of frame `frame` (rt_anim_frame). Fails the job itself. */
+void rt_run_frame_camera(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, uint32_t frame);
 /* Every rank: the farm's job (units, threads, the farm's policy). */
 void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
+/* The checkpoint's identity of o's image (of frame o->frame in a frame job). */
+rt_ckpt_id rt_run_ckpt_id(const rt_options *o, const rt_run_setup *s);
 /* Rank 0: the framebuffer, the restored checkpoint, the progress line and
  * the hooks; prints the run's first line. Fails the job itself. */
 void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r);
@@ -131,6 +136,12 @@ void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_
  * AOV of lay) as 3 sums per pixel of the job's samples (rt_image_extract);
  * NULL when out of memory. Free with rt_mem_free. */
 int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first);
+
+/* sequence.c: a frame job (--frames, --frame): every frame of the range in
+ * turn over the same scene, renderer and farm, each written as soon as it
+ * is done; on --resume, frames whose files exist are skipped and the
+ * checkpoint's frame continues. */
+void rt_run_frames(rt_run *run);
 
 /* Frees what each part holds (parts never filled are zero). */
 void rt_run_free(rt_run *run);

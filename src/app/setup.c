@@ -96,6 +96,10 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
     rt_scene_init(&built);
     rt_scene_files files = {NULL, 0, 0};
     int code = rank->root ? (int)make_scene(o, &built, &files, err, errlen) : RT_EXIT_OK; /* an int to broadcast */
+    if (!code && rank->root && o->anim.turn_frames && rt_anim_camera_animates(&built)) {
+        snprintf(err, errlen, "--turntable: scene file '%s' animates its camera already", o->scene_file);
+        code = RT_EXIT_USAGE;
+    }
     rt_scene_files_free(&files);
     rt_farm_bcast_int(&rank->farm, &code);
     if (code) {
@@ -121,16 +125,22 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
     return RT_EXIT_OK;
 }
 
+static void lists(const rt_options *o, const rt_farm *f, rt_run_setup *s);
+
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
 {
     const rt_farm *f = &rank->farm;
-    /* The frame's camera and shutter (a run renders frame 0 today). */
+    /* The first frame's camera and shutter (frame 0 for a single image); the
+     * intersector holds the moving spheres over every frame's time. */
+    const uint32_t first = o->frame_job ? o->frames.first : 0, last = o->frame_job ? o->frames.last : 0;
     rt_camera_desc cam;
-    double t0, t1;
-    int st = rt_anim_frame(&s->scene, &o->anim, 0, &cam, &t0, &t1);
+    double t0, t1, lo, hi;
+    int st = rt_anim_frame(&s->scene, &o->anim, first, &cam, &t0, &t1);
+    if (!st)
+        st = rt_anim_span(&s->scene, &o->anim, first, last, &lo, &hi);
     if (st)
-        rt_farm_fail(f, RT_EXIT_USAGE, "frame 0's camera: %s", rt_status_str(st));
-    st = rt_accel_new_span(&s->accel, &s->scene, (rt_accel_kind)o->accel, t0, t1);
+        rt_farm_fail(f, RT_EXIT_USAGE, "frame %u's camera: %s", first, rt_status_str(st));
+    st = rt_accel_new_span(&s->accel, &s->scene, (rt_accel_kind)o->accel, lo, hi);
     if (st)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "building the %s intersector: %s", rt_accel_name(o->accel),
                      rt_status_str(st));
@@ -142,12 +152,34 @@ void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup 
     s->renderer.stop = rt_farm_stop_flag();
     /* Our BVH also gets candidate lists for the camera rays (brute force and
      * Embree stay as they are: the oracle and the comparison). */
-    if (rt_accel_bvh(s->accel) && !s->renderer.world) { /* the book-2 loop makes its own camera rays */
-        st = rt_primary_build(&s->primary, &s->scene, &s->renderer.camera, o->job.width, o->job.height);
-        if (st)
-            rt_farm_fail(f, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
-        s->renderer.primary = s->primary;
-    }
+    if (!o->frame_job)
+        lists(o, f, s);
+}
+
+/* Our BVH's camera-ray lists for the renderer's camera (the book-2 loop
+ * makes its own camera rays). */
+static void lists(const rt_options *o, const rt_farm *f, rt_run_setup *s)
+{
+    if (!rt_accel_bvh(s->accel) || s->renderer.world)
+        return;
+    rt_primary_free(s->primary);
+    s->renderer.primary = s->primary = NULL;
+    int st = rt_primary_build(&s->primary, &s->scene, &s->renderer.camera, o->job.width, o->job.height);
+    if (st)
+        rt_farm_fail(f, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
+    s->renderer.primary = s->primary;
+}
+
+void rt_run_frame_camera(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, uint32_t frame)
+{
+    rt_camera_desc cam;
+    double t0, t1;
+    int st = rt_anim_frame(&s->scene, &o->anim, frame, &cam, &t0, &t1);
+    if (!st)
+        st = rt_render_frame(&s->renderer, &cam, t0, t1);
+    if (st)
+        rt_farm_fail(&rank->farm, RT_EXIT_USAGE, "frame %u: camera: %s", frame, rt_status_str(st));
+    lists(o, &rank->farm, s);
 }
 
 /* ---- hooks: what rank 0 does while the sums come in ---------------------- */
@@ -226,12 +258,24 @@ void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s)
                            .lease = o->lease};
 }
 
+rt_ckpt_id rt_run_ckpt_id(const rt_options *o, const rt_run_setup *s)
+{
+    return (rt_ckpt_id){.job = o->job,
+                        .exact = o->accel != RT_ACCEL_EMBREE,
+                        .scene_hash = s->scene_hash,
+                        .sampling = RT_RENDER_SAMPLING,
+                        .frame_job = (uint32_t)o->frame_job,
+                        .first = o->frames.first,
+                        .last = o->frames.last,
+                        .step = o->frames.step,
+                        .frame = o->frame,
+                        .turn_frames = o->anim.turn_frames,
+                        .turn_degrees = o->anim.turn_degrees};
+}
+
 void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r)
 {
-    r->ckpt = (rt_ckpt_id){.job = o->job,
-                           .exact = o->accel != RT_ACCEL_EMBREE,
-                           .scene_hash = s->scene_hash,
-                           .sampling = RT_RENDER_SAMPLING};
+    r->ckpt = rt_run_ckpt_id(o, s);
     rt_run_ckpt_framebuffer(o, &rank->farm, r);
     rt_progress_init(&r->progress, o->job.height, o->quiet);
     r->progress.base_rows = r->rows_restored;
@@ -251,8 +295,12 @@ void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run
     if (o->quiet)
         return;
     const int ranks = rank->farm.size, threads = rank->threads;
-    fprintf(stderr, "rt-mpi: %ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
-            o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, s->scene.n_spheres, ranks,
+    char fr[80] = "";
+    if (o->frame_job)
+        snprintf(fr, sizeof fr, "frame %u (%u of %u), ", o->frame, (o->frame - o->frames.first) / o->frames.step + 1,
+                 rt_frames_count(&o->frames));
+    fprintf(stderr, "rt-mpi: %s%ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
+            fr, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, s->scene.n_spheres, ranks,
             ranks > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
     if (o->resume)
         fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", o->checkpoint,

@@ -22,7 +22,7 @@
  * it goes (-o), so the file is byte-identical however it was rendered. */
 static void repro_command(const rt_options *o, char *buf, size_t n)
 {
-    char scene[320], grid[32] = "", format[48] = "", adapt[48] = "";
+    char scene[320], grid[32] = "", format[48] = "", adapt[48] = "", frame[96] = "";
     /* the roulette only when it is not the sampler's default */
     const char *roulette = o->job.roulette == (o->job.sampler == RT_SAMPLER_SOBOL) ? ""
                            : o->job.roulette                                      ? " --roulette"
@@ -44,12 +44,17 @@ static void repro_command(const rt_options *o, char *buf, size_t n)
                  o->ppm_ascii ? " --ppm-ascii" : "");
     if (o->job.noise_threshold > 0.0) /* %.17g: the very double, which decides where pixels stop */
         snprintf(adapt, sizeof adapt, " --noise-threshold %.17g", o->job.noise_threshold);
+    if (o->frame_job && o->anim.turn_frames) /* %.17g: the very double the orbit turns by */
+        snprintf(frame, sizeof frame, " --frame %u --turntable %.17g:%u", o->frame, o->anim.turn_degrees,
+                 o->anim.turn_frames);
+    else if (o->frame_job)
+        snprintf(frame, sizeof frame, " --frame %u", o->frame);
     snprintf(buf, n, "rt-mpi %s%s --width %u --height %u --samples %u --max-depth %u --seed %" PRIu64
-             " --diffuse %s --sampler %s%s%s%s --accel %s%s",
+             " --diffuse %s --sampler %s%s%s%s --accel %s%s%s",
              scene, grid, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed,
              rt_diffuse_name(o->job.diffuse), rt_sampler_name(o->job.sampler), roulette,
              o->job.light == RT_LIGHT_BRUTE ? " --no-light-sampling" : "", adapt, rt_accel_name(accel),
-             format);
+             format, frame);
 }
 
 /* The parts of the run that the steps after the render read. */
@@ -80,8 +85,9 @@ static void fail_write(const finish *F, const char *path, int st)
 static void write_image(const finish *F, const int64_t *colour)
 {
     const rt_options *o = F->o;
-    char seed_s[32], spp_s[32], sampling_s[16], cmdline[512];
+    char seed_s[32], spp_s[32], sampling_s[16], cmdline[640], frame_s[16];
     snprintf(seed_s, sizeof seed_s, "%" PRIu64, o->job.seed);
+    snprintf(frame_s, sizeof frame_s, "%u", o->frame);
     snprintf(sampling_s, sizeof sampling_s, "%u", RT_RENDER_SAMPLING);
     snprintf(spp_s, sizeof spp_s, "%u", o->job.samples);
     repro_command(o, cmdline, sizeof cmdline);
@@ -93,11 +99,12 @@ static void write_image(const finish *F, const int64_t *colour)
         /* Which random numbers the samples drew: the command reproduces
          * this image only with a build of the same sampling version. */
         {"rt-mpi:sampling", sampling_s},
+        {"rt-mpi:frame", frame_s}, /* last: only a frame job's files have it */
     };
     rt_image_write_opts wo = {.bit_depth = o->bit_depth,
                               .ppm_ascii = o->ppm_ascii,
                               .text = text,
-                              .n_text = (int)(sizeof text / sizeof text[0])};
+                              .n_text = (int)(sizeof text / sizeof text[0]) - !o->frame_job};
     int st = rt_image_write(o->output, colour, o->job.width, o->job.height, o->job.samples, &wo);
     if (st)
         fail_write(F, o->output, st);
@@ -215,6 +222,8 @@ static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *sp
     const rt_run_root *r = F->r;
     const int ranks = F->f->size;
     printf("output:        %s\n", o->output);
+    if (o->frame_job)
+        printf("frame:         %u\n", o->frame);
     printf("image:         %ux%u, %u spp, max depth %u, seed %" PRIu64 "\n", j->width, j->height, j->samples,
            j->max_depth, j->seed);
     if (o->scene_file)
@@ -300,7 +309,9 @@ static void write_reports(const finish *F, uint64_t hash, const rt_spp_stats *sp
                           .per_rank = res->ranks,
                           .origin = origin,
                           .farm = res,
-                          .spp = spp};
+                          .spp = spp,
+                          .frame_job = o->frame_job,
+                          .frame = o->frame};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));

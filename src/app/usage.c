@@ -90,6 +90,18 @@ static const char parallel[] =
     "                           rank 0 asks or it holds --flush-mb) [default: " RT_POLICY_STR(RT_POLICY_FLUSH_INTERVAL) "]\n"
     "      --flush-mb <MB>      A rank sends its sums once it holds this many [default: " RT_POLICY_STR(RT_POLICY_FLUSH_MB) "]\n";
 
+static const char frames[] =
+    "Frames (one job renders a sequence):\n"
+    "      --frames <A-B[:STEP]>  Render frames A to B (every STEP-th); --output, --spp-map,\n"
+    "                           --stats and --trace become patterns: '#'s become the frame\n"
+    "                           number zero-padded (-o turn_####.png), else the number (4\n"
+    "                           digits) goes before the extension\n"
+    "      --frame <N>          Render frame N alone (the same bytes as in a range)\n"
+    "      --turntable <DEGREES:FRAMES>\n"
+    "                           Orbit the camera about its lookat by DEGREES every FRAMES\n"
+    "                           frames (frame f at f x DEGREES / FRAMES)\n"
+    "                           With --resume, frames whose files exist are skipped\n";
+
 static const char checkpoint[] =
     "Checkpoint:\n"
     "      --checkpoint <FILE>  Checkpoint of the samples done so far [default: OUTPUT.ckpt]\n"
@@ -149,7 +161,7 @@ static const char environment[] =
     "                           OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1\n";
 
 static const char *const sections[] = {intro,       output,   scene,    sampling,    parallel,
-                                       checkpoint,  diagnostics, developer, examples, environment};
+                                       frames,      checkpoint,  diagnostics, developer, examples, environment};
 
 /* The items' text starts at this column; a line break in an exit code's
  * text goes on there. */

@@ -1,7 +1,9 @@
 /* checkpoint.c - checkpoint file format (little endian throughout):
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
  *   exact | u64 seed scene_hash | u32 sampling sampler roulette aov |
- *   u64 noise threshold (IEEE double bits) | u32 rows with samples |
+ *   u64 noise threshold (IEEE double bits) | u32 light | u32 frame job
+ *   first last step frame turntable-frames | u64 turntable degrees (IEEE
+ *   double bits) | u32 rows with samples |
  *   height u32 sample counts | for each row with samples, width*ch i64
  *   sums (ch: the job's layout, job.h) |
  *   u64 FNV-1a of all before. */
@@ -17,7 +19,8 @@
 #include "status.h"
 
 static const uint8_t MAGIC[8] = {'R', 'T', 'C', 'K', 'P', 'T', 0, 0};
-#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 * 4 + 8 + 4 + 4)
+#define HEADER_BYTES (8 + 4 + 6 * 4 + 2 * 8 + 4 * 4 + 8 + 4 + 6 * 4 + 8 + 4)
+#define FRAME_AT 68 /* the frame job's fields, from the version on */
 
 typedef struct hwriter {
     FILE *fp;
@@ -81,6 +84,13 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
     put_u32(&w, id->job.aov);
     put_u64(&w, threshold_bits(id->job.noise_threshold));
     put_u32(&w, id->job.light);
+    put_u32(&w, id->frame_job);
+    put_u32(&w, id->first);
+    put_u32(&w, id->last);
+    put_u32(&w, id->step);
+    put_u32(&w, id->frame);
+    put_u32(&w, id->turn_frames);
+    put_u64(&w, threshold_bits(id->turn_degrees));
     put_u32(&w, done);
     for (uint32_t y = 0; y < id->job.height; y++)
         put_u32(&w, committed[y]);
@@ -115,8 +125,9 @@ static uint32_t get_u32(const uint8_t *p)
 }
 static uint64_t get_u64(const uint8_t *p) { return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32; }
 
-int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
-                 uint32_t *rows_done, char *why, size_t whylen)
+/* Reads the file at path whole and checks what every checkpoint has: the
+ * magic, the checksum, the version. */
+static int load(const char *path, uint8_t **out, size_t *n, char *why, size_t whylen)
 {
     why[0] = 0;
     char *raw;
@@ -141,7 +152,15 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         free(data);
         return st;
     }
-    const uint8_t *p = data + 12;
+    *out = data;
+    *n = len;
+    return RT_OK;
+}
+
+/* The header at p (after the version) against expect. */
+static int same_job(const uint8_t *p, const rt_ckpt_id *expect, char *why, size_t whylen)
+{
+    const uint8_t *fr = p + FRAME_AT;
     struct {
         const char *name;
         uint64_t got, want;
@@ -160,17 +179,63 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         {"denoiser buffers (--aov)", get_u32(p + 52), expect->job.aov},
         {"noise threshold (bits)", get_u64(p + 56), threshold_bits(expect->job.noise_threshold)},
         {"light sampling (0 on, 1 off)", get_u32(p + 64), expect->job.light},
+        {"frame job (--frames, --frame)", get_u32(fr), expect->frame_job},
+        {"first frame", get_u32(fr + 4), expect->first},
+        {"last frame", get_u32(fr + 8), expect->last},
+        {"frame step", get_u32(fr + 12), expect->step},
+        {"frame", get_u32(fr + 16), expect->frame},
+        {"turntable frames", get_u32(fr + 20), expect->turn_frames},
+        {"turntable degrees (bits)", get_u64(fr + 24), threshold_bits(expect->turn_degrees)},
     };
     for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
         if (fields[i].got != fields[i].want) {
             snprintf(why, whylen, "it belongs to a different job (%s %llu, this job has %llu)", fields[i].name,
                      (unsigned long long)fields[i].got, (unsigned long long)fields[i].want);
-            free(data);
             return RT_EMISMATCH;
         }
     }
-    uint32_t with = get_u32(p + 68);
-    const uint8_t *counts = p + 72;
+    return RT_OK;
+}
+
+int rt_ckpt_check(const char *path, const rt_ckpt_id *expect, char *why, size_t whylen)
+{
+    uint8_t *data;
+    size_t len;
+    int st = load(path, &data, &len, why, whylen);
+    if (st)
+        return st;
+    st = same_job(data + 12, expect, why, whylen);
+    free(data);
+    return st;
+}
+
+int rt_ckpt_frame(const char *path, uint32_t *frame, char *why, size_t whylen)
+{
+    uint8_t *data;
+    size_t len;
+    int st = load(path, &data, &len, why, whylen);
+    if (st)
+        return st;
+    *frame = get_u32(data + 12 + FRAME_AT + 16);
+    free(data);
+    return RT_OK;
+}
+
+int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
+                 uint32_t *rows_done, char *why, size_t whylen)
+{
+    uint8_t *data;
+    size_t len;
+    int st = load(path, &data, &len, why, whylen);
+    if (st)
+        return st;
+    const uint8_t *p = data + 12;
+    if ((st = same_job(p, expect, why, whylen)) != RT_OK) {
+        free(data);
+        return st;
+    }
+    uint32_t with = get_u32(p + FRAME_AT + 32);
+    const uint8_t *counts = p + FRAME_AT + 36;
     size_t rowlen = (size_t)expect->job.width * rt_job_layout(&expect->job).ch;
     size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
     uint32_t counted = 0, bad = 0;

@@ -12,7 +12,7 @@
 
 #include "job.h"
 
-#define RT_CKPT_VERSION 6u /* 6: the light sampling mode (rt_job.light) */
+#define RT_CKPT_VERSION 7u /* 6: the light sampling mode (rt_job.light); 7: frame jobs */
 
 /* Everything that changes a pixel: the job, and what else decides its
  * samples' bits. */
@@ -21,6 +21,10 @@ typedef struct rt_ckpt_id {
     uint32_t exact;      /* 0 only for the Embree intersector */
     uint64_t scene_hash; /* the broadcast scene's bytes */
     uint32_t sampling;   /* RT_RENDER_SAMPLING of the build */
+    /* A frame job (issue 37): its range and turntable, and the frame whose
+     * sums the file holds; all 0 for a single image. */
+    uint32_t frame_job, first, last, step, frame, turn_frames;
+    double turn_degrees;
 } rt_ckpt_id;
 
 /* committed: per row, the samples [0, committed) its sums cover; acc:
@@ -34,5 +38,11 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
  * for files that are not checkpoints, RT_EIO when it cannot be read. */
 int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
                  uint32_t *rows_done, char *why, size_t whylen);
+/* Only the identity: RT_OK when the checkpoint at path belongs to `expect`,
+ * else a status as rt_ckpt_read's (why filled). */
+int rt_ckpt_check(const char *path, const rt_ckpt_id *expect, char *why, size_t whylen);
+/* The frame whose sums the checkpoint at path holds (a frame job's), or a
+ * status as rt_ckpt_read's (why filled). */
+int rt_ckpt_frame(const char *path, uint32_t *frame, char *why, size_t whylen);
 
 #endif

@@ -87,6 +87,49 @@ else
     skip "mpirun cases: no mpirun"
 fi
 
+# A frame job stopped in its third frame: --resume leaves the written
+# frames alone (same inode and time: not rendered or written again),
+# continues the frame in flight from the checkpoint's sums (fewer ray
+# segments than that frame alone) and renders the rest; every frame
+# identical to an uninterrupted run.
+F=(--width 160 --height 96 -s 300 --turntable 60:4 -q -j 2)
+"$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fref_#.png" --stats "$WORK/fref_#.json" --no-checkpoint >/dev/null
+check_eq "frame job reference" $? 0
+ckpt_u32() { od -An -tu4 -j "$2" -N4 "$1" 2>/dev/null | tr -d ' '; } # file offset
+"$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fr_#.png" --checkpoint-interval 0 >/dev/null 2>"$WORK/fr.err" &
+pid=$!
+# the checkpoint's frame (offset 96) is 2 and some of its rows are in (100)
+for ((i = 0; i < 600; i++)); do
+    [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 96)" = 2 ] && [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 112)" -gt 0 ] 2>/dev/null && break
+    sleep 0.1
+done
+kill -TERM $pid
+wait $pid
+check_eq "frame job: exit status after SIGTERM" $? 75
+check_eq "frame job: frames 0 and 1 written, 2 and 3 not" "$(ls "$WORK" | grep '^fr_[0-9]\.png$' | tr '\n' ' ')" "fr_0.png fr_1.png "
+before=$(stat -c '%i %Y.%y' "$WORK/fr_0.png" "$WORK/fr_1.png")
+"$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fr_#.png" --resume --stats "$WORK/fr_#.json" >"$WORK/fr.out" 2>"$WORK/fr.err"
+check_eq "frame job: resume exit status" $? 0
+check_eq "frame job: written frames untouched by the resume" "$(stat -c '%i %Y.%y' "$WORK/fr_0.png" "$WORK/fr_1.png")" "$before"
+segs=$(stat_of "$WORK/fr_2.json" ray_segments) all=$(stat_of "$WORK/fref_2.json" ray_segments)
+[ -n "$segs" ] && [ -n "$all" ] && [ "$segs" -lt "$all" ] &&
+    pass "frame job: frame 2 continued from the checkpoint ($segs of $all ray segments)" ||
+    fail "frame job: frame 2 rendered again: $segs of $all ray segments"
+check_eq "frame job: frame 3 rendered whole" "$(stat_of "$WORK/fr_3.json" ray_segments)" "$(stat_of "$WORK/fref_3.json" ray_segments)"
+same=0
+for f in 0 1 2 3; do cmp -s "$WORK/fr_$f.png" "$WORK/fref_$f.png" && same=$((same + 1)); done
+check_eq "frame job: resumed frames identical to the uninterrupted run" "$same of 4" "4 of 4"
+[ ! -e "$WORK/fr_#.png.ckpt" ] && pass "frame job: checkpoint removed after the last frame" || fail "frame job: checkpoint left"
+# another job's checkpoint (another range) is refused
+"$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fo_#.png" -s 2 --keep-checkpoint >/dev/null 2>&1
+mv "$WORK/fo_#.png.ckpt" "$WORK/keep.ckpt"
+rm -f "$WORK"/fo_*.png
+mv "$WORK/keep.ckpt" "$WORK/fo_#.png.ckpt"
+expect_refusal 3 "frame job: checkpoint of another range" "different job (last frame 3, this job has 4)" \
+    "$BIN" "${F[@]}" -s 2 --frames 0-4 -o "$WORK/fo_#.png" --resume
+expect_refusal 3 "frame job: checkpoint of another turntable" "different job (turntable frames 4, this job has 8)" \
+    "$BIN" "${F[@]}" --frames 0-3 -s 2 --turntable 60:8 -o "$WORK/fo_#.png" --resume
+
 # Refusals: exit 3, one clear line, nothing rendered.
 B=(--width 160 --height 96 -s 300 -q -o "$WORK/x.png")
 "$BIN" "${B[@]}" --keep-checkpoint -s 2 >/dev/null 2>&1

@@ -2,6 +2,7 @@
  * field of view, the lens keeps rays converging on the focus plane. */
 #include <string.h>
 
+#include "anim.h"
 #include "camera.h"
 #include "check.h"
 #include "status.h"
@@ -83,5 +84,29 @@ int main(void)
     CHECK_EQ_INT(rt_camera_orbit(&w, 1, NAN, 1), RT_EINVAL);
     w.vup = rt_v3(0, 0, 0);
     CHECK_EQ_INT(rt_camera_orbit(&w, 1, 30.0, 1), RT_EINVAL);
+
+    /* A frame's camera and time (anim.h): frame 0 without a turntable is
+     * the scene's camera; with one, the orbit of the frame's number; the
+     * time interval is the frame's (a scene without moving spheres: no
+     * shutter, every ray at the frame's time; test_anim checks the rest). */
+    rt_scene sc;
+    rt_scene_init(&sc);
+    sc.camera = d;
+    rt_camera_desc fc;
+    double t0 = -1, t1 = -1;
+    CHECK_EQ_INT(rt_anim_frame(&sc, NULL, 0, &fc, &t0, &t1), RT_OK);
+    CHECK(memcmp(&fc, &d, sizeof fc) == 0);
+    CHECK(t0 == 0.0 && t1 == 0.0);
+    const rt_anim_opts turn = {.turn_degrees = 360.0, .turn_frames = 48};
+    rt_camera_desc orbited = d;
+    CHECK_EQ_INT(rt_camera_orbit(&orbited, 7, 360.0, 48), RT_OK);
+    CHECK_EQ_INT(rt_anim_frame(&sc, &turn, 7, &fc, &t0, &t1), RT_OK);
+    CHECK(memcmp(&fc.lookfrom, &orbited.lookfrom, sizeof fc.lookfrom) == 0);
+    CHECK(memcmp(&fc.lookfrom, &d.lookfrom, sizeof fc.lookfrom) != 0);
+    CHECK_NEAR(t0, 7.0, 0.0);
+    CHECK_NEAR(t1, 7.0, 0.0);
+    const rt_anim_opts nan_turn = {.turn_degrees = NAN, .turn_frames = 4};
+    CHECK_EQ_INT(rt_anim_frame(&sc, &nan_turn, 1, &fc, &t0, &t1), RT_EINVAL);
+    rt_scene_free(&sc);
     CHECK_DONE();
 }

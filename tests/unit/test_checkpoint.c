@@ -49,8 +49,8 @@ int main(void)
     struct {
         const char *says;
         rt_ckpt_id id;
-    } others[16];
-    for (size_t k = 0; k < 16; k++)
+    } others[24];
+    for (size_t k = 0; k < 24; k++)
         others[k].id = job;
     size_t n_others = 0;
 #define OTHER(what, field, value) (others[n_others].says = (what), others[n_others++].id.field = (value))
@@ -67,12 +67,43 @@ int main(void)
     OTHER("(roulette 1,", job.roulette, 0);
     OTHER("(denoiser buffers (--aov) 0,", job.aov, RT_AOV_ALBEDO);
     OTHER("(noise threshold (bits) 0,", job.noise_threshold, 0.05);
+    OTHER("(light sampling (0 on, 1 off) 0,", job.light, 1);
+    OTHER("(frame job (--frames, --frame) 0,", frame_job, 1); /* a frame job's: zeros for one image */
+    OTHER("(first frame 0,", first, 1);
+    OTHER("(last frame 0,", last, 3);
+    OTHER("(frame step 0,", step, 2);
+    OTHER("(frame 0,", frame, 5);
+    OTHER("(turntable frames 0,", turn_frames, 48);
+    OTHER("(turntable degrees (bits) 0,", turn_degrees, 360.0);
 #undef OTHER
-    CHECK_EQ_INT(n_others, 13); /* every field rt_ckpt_read compares */
+    CHECK_EQ_INT(n_others, 21); /* every field rt_ckpt_read compares */
     for (size_t k = 0; k < n_others; k++) {
         why[0] = 0;
         CHECK_EQ_INT(rt_ckpt_read(path, &others[k].id, done2, back, &n, why, sizeof why), RT_EMISMATCH);
         CHECK_HAS(why, others[k].says);
+        why[0] = 0; /* the identity alone (a frame job's resume) says the same */
+        CHECK_EQ_INT(rt_ckpt_check(path, &others[k].id, why, sizeof why), RT_EMISMATCH);
+        CHECK_HAS(why, others[k].says);
+    }
+    CHECK_EQ_INT(rt_ckpt_check(path, &job, why, sizeof why), RT_OK);
+
+    /* A frame job's checkpoint names the frame it holds. */
+    {
+        rt_ckpt_id fr = job;
+        fr.frame_job = 1, fr.first = 2, fr.last = 8, fr.step = 3, fr.frame = 5;
+        fr.turn_frames = 12, fr.turn_degrees = 90.0;
+        char fpath[600];
+        snprintf(fpath, sizeof fpath, "%s/frames.ckpt", dir);
+        CHECK_EQ_INT(rt_ckpt_write(fpath, &fr, done, acc), RT_OK);
+        uint32_t frame = 0;
+        CHECK_EQ_INT(rt_ckpt_frame(fpath, &frame, why, sizeof why), RT_OK);
+        CHECK_EQ_INT(frame, 5);
+        CHECK_EQ_INT(rt_ckpt_check(fpath, &fr, why, sizeof why), RT_OK);
+        CHECK_EQ_INT(rt_ckpt_read(fpath, &fr, done2, back, &n, why, sizeof why), RT_OK);
+        CHECK(memcmp(done, done2, sizeof done) == 0);
+        CHECK_EQ_INT(rt_ckpt_frame(path, &frame, why, sizeof why), RT_OK); /* one image's: frame 0 */
+        CHECK_EQ_INT(frame, 0);
+        unlink(fpath);
     }
 
     /* A wide layout (adaptive count and both buffers: 10 values a pixel)
