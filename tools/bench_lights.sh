@@ -1,26 +1,33 @@
 #!/bin/bash
 # bench_lights.sh [--bin PATH] [--size N] [--ref-spp S] [--scenes "A B"] [--texture-dir DIR]
-#                 [--book DIR] [--book-spp S] [--book-size N]
-# Light sampling (next-event estimation with MIS) against brute-force paths
-# (--no-light-sampling), measured in this one run: for each scene (default
-# cornell-box and book2-final, N x N, default 100), a reference rendered with
-# light sampling at --ref-spp (default 8192, -j 2); the brute-force render
-# at 1024 spp (-j 2): its wall time and display-space RMSE (gamma 2, 0-255,
-# per pixel: tools/compare_images.py --block 1) against the reference; then
-# light sampling at 4, 8, 16, ... spp (-j 2) until its RMSE is at most the
-# brute-force one: the time to that RMSE, interpolated (log time against
-# log RMSE) between that render and the one before. Prints both sides and
-# the ratio of the times. book2-final reads earthmap.jpg from --texture-dir
-# (default: the current directory).
+#                 [--book DIR] [--book-spp S] [--book-size N] [--rounds R]
+# Light sampling (next-event estimation with MIS, rt-mpi's defaults:
+# Russian roulette on) against brute-force paths (--no-light-sampling, the
+# same defaults otherwise), measured in this one run, every render on one
+# core (-j 1): for each scene (default cornell-box and book2-final, N x N,
+# default 128), a reference rendered with light sampling at --ref-spp
+# (default 4096, -j 2); the brute-force render at 1024 spp and its
+# display-space RMSE (gamma 2, 0-255, per pixel: tools/compare_images.py
+# --block 1) against the reference; light sampling at 1, 2, 4, ... spp
+# until its RMSE is at most the brute-force one. Then --rounds rounds
+# (default 3) time the brute-force render and the last two light-sampled
+# ones, interleaved (A B B', A B B', ...) so a drift of the machine's load
+# hits both sides; the medians are kept (the images, so the RMSEs, are the
+# same every time). The time to the brute force's RMSE is interpolated (log
+# time against log RMSE) between the two light-sampled renders. Times are
+# CPU seconds (user + system) of the whole process, and wall seconds; the
+# load average is printed before and after. book2-final reads earthmap.jpg
+# from --texture-dir (default: the current directory).
 # With --book DIR (the book's programs: DIR/run.sh), book3-final N x N
-# against the book's own light-sampling program (`run.sh rest`, one core,
-# --book-spp samples, default 64; --book-size N, default 128): the book's
-# time and RMSE against our reference, then ours on one core (-j 1) at 1,
-# 2, 4, ... spp until its RMSE is at most the book's, interpolated as
-# above: the ratio of the times is time per core.
+# (--book-size, default 256) against the book's own light-sampling program
+# (`run.sh rest`, one core, --book-spp samples, default 64) the same way:
+# the book's side timed against ours at the two sample counts that bracket
+# its RMSE.
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-BIN=$ROOT/build/rt-mpi SIZE=100 REF=8192 SCENES="cornell-box book2-final" BOOK="" BOOK_SPP=64 BOOK_SIZE=128 TEX=.
+source "$ROOT/tools/bench_lib.sh"
+BIN=$ROOT/build/rt-mpi SIZE=128 REF=4096 SCENES="cornell-box book2-final" BOOK="" BOOK_SPP=64 BOOK_SIZE=256
+TEX=. ROUNDS=3
 while [ $# -gt 0 ]; do
     case $1 in
     --bin) BIN=$2; shift ;;
@@ -31,6 +38,7 @@ while [ $# -gt 0 ]; do
     --book) BOOK=$2; shift ;;
     --book-spp) BOOK_SPP=$2; shift ;;
     --book-size) BOOK_SIZE=$2; shift ;;
+    --rounds) ROUNDS=$2; shift ;;
     *) echo "bench_lights.sh: unknown option $1" >&2; exit 2 ;;
     esac
     shift
@@ -38,16 +46,22 @@ done
 PY=/usr/bin/python3 # numpy and PIL
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
+load() { echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }
 
-# run OUT ARGS...: renders to OUT; prints the wall time in seconds.
-run() {
-    local out=$1 t0 t1
+# timed OUT CMD...: runs CMD with its standard output to OUT; prints
+# "cpu wall" (seconds: user + system, and elapsed).
+timed() {
+    local out=$1 t
     shift
-    t0=$(date +%s.%N)
-    "$BIN" --width "$SIZE" --height "$SIZE" --texture-dir "$TEX" -q -o "$out" "$@" >/dev/null 2>"$W/err" ||
-        { echo "bench_lights.sh: rt-mpi $*: $(head -c 300 "$W/err")" >&2; exit 1; }
-    t1=$(date +%s.%N)
-    awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.2f", b - a}'
+    t=$( { TIMEFORMAT='%U %S %R'; time "$@" >"$out" 2>"$W/err"; } 2>&1) ||
+        { echo "bench_lights.sh: $*: $(head -c 300 "$W/err")" >&2; exit 1; }
+    awk '{printf "%.3f %.3f", $1 + $2, $3}' <<<"$t"
+}
+# ours OUT ARGS...: rt-mpi renders SIZE x SIZE to OUT; prints "cpu wall".
+ours() {
+    local out=$1
+    shift
+    timed /dev/null "$BIN" --width "$SIZE" --height "$SIZE" --texture-dir "$TEX" -q -o "$out" "$@"
 }
 # rmse REF IMG: display-space per-pixel RMSE of IMG against REF.
 rmse() { "$PY" "$ROOT/tools/compare_images.py" --ref "$1" --block 1 x="$2" | awk '$1 == "x" {print $NF}'; }
@@ -59,48 +73,72 @@ reach() {
         if (e0 == "" || e0 <= e1) { printf "%.3f", t1; exit }
         f = log(e0 / e) / log(e0 / e1); printf "%.3f", exp(log(t0) + f * (log(t1) - log(t0))) }'
 }
-# search OUT EREF SPP0 ARGS...: renders with SPP0, 2 SPP0, ... spp until the
-# RMSE is at most EREF; prints "spp rmse time interpolated-time".
-search() {
-    local out=$1 eref=$2 spp=$3 e0="" t0="" el tl
-    shift 3
+# bracket EREF ARGS...: the light-sampled renders at 1, 2, 4, ... spp until
+# the RMSE is at most EREF; prints "spp0 rmse0 spp1 rmse1" of the last two
+# (spp0 and rmse0 "-" when the first already reaches it).
+bracket() {
+    local eref=$1 spp=1 s0=- e0=- el
+    shift
     while :; do
-        tl=$(run "$out" -s $spp "$@")
-        el=$(rmse "$W/ref.png" "$out")
+        ours "$W/l.png" -s $spp "$@" >/dev/null
+        el=$(rmse "$W/ref.png" "$W/l.png")
         if le "$el" "$eref" || [ $spp -ge 4096 ]; then
-            echo "$spp $el $tl $(reach "$e0" "$t0" "$el" "$tl" "$eref")"
+            echo "$s0 $e0 $spp $el"
             return
         fi
-        e0=$el t0=$tl spp=$((spp * 2))
+        s0=$spp e0=$el spp=$((spp * 2))
     done
 }
+# compare LABEL EREF "OTHER-CMD" ARGS...: ROUNDS rounds of the other side
+# (OTHER-CMD, evaluated) and ours at the two sample counts that bracket
+# EREF; prints one table row: both sides' median times and the ratios.
+compare() {
+    local label=$1 eref=$2 other=$3 s0 e0 s1 e1 i
+    shift 3
+    read -r s0 e0 s1 e1 < <(bracket "$eref" "$@")
+    : >"$W/t.b" && : >"$W/t.0" && : >"$W/t.1"
+    for ((i = 0; i < ROUNDS; i++)); do
+        eval "$other" >>"$W/t.b"
+        echo >>"$W/t.b"
+        [ "$s0" = - ] || { ours "$W/l.png" -s "$s0" "$@" >>"$W/t.0"; echo >>"$W/t.0"; }
+        ours "$W/l.png" -s "$s1" "$@" >>"$W/t.1"
+        echo >>"$W/t.1"
+    done
+    col() { cut -d' ' -f"$2" "$W/$1" | median; }
+    local cb wb c0=- w0=- c1 w1 ci wi
+    cb=$(col t.b 1) wb=$(col t.b 2) c1=$(col t.1 1) w1=$(col t.1 2)
+    [ "$s0" = - ] || { c0=$(col t.0 1) w0=$(col t.0 2); }
+    [ "$s0" = - ] && e0=""
+    ci=$(reach "$e0" "$c0" "$e1" "$c1" "$eref") wi=$(reach "$e0" "$w0" "$e1" "$w1" "$eref")
+    printf "%-14s | RMSE %s: %s s cpu (%s s wall) | %s spp: RMSE %s, %s spp: RMSE %s; at %s: %s s cpu (%s s wall) | %sx cpu, %sx wall\n" \
+        "$label" "$eref" "$cb" "$wb" "$s0" "${e0:--}" "$s1" "$e1" "$eref" "$ci" "$wi" \
+        "$(awk -v a="$cb" -v b="$ci" 'BEGIN {printf "%.1f", a / b}')" \
+        "$(awk -v a="$wb" -v b="$wi" 'BEGIN {printf "%.1f", a / b}')"
+}
 
+load
 if [ -n "$SCENES" ]; then
-    echo "# $SIZE x $SIZE; reference: light sampling, $REF spp; RMSE: display space (gamma 2, 0-255) against it"
-    printf "%-12s %-30s %-46s %s\n" scene "brute force, 1024 spp (-j 2)" \
-        "light sampling (-j 2): first spp at that RMSE" "time ratio at equal RMSE"
+    echo "# $SIZE x $SIZE, one core (-j 1); reference: light sampling, $REF spp (-j 2); RMSE: display space" \
+        "(gamma 2, 0-255) against it; medians of $ROUNDS interleaved rounds"
+    echo "# scene | brute force (--no-light-sampling), 1024 spp | light sampling: the two sample counts" \
+        "around that RMSE, the time interpolated to it | time ratio at equal RMSE"
 fi
 for s in $SCENES; do
-    run "$W/ref.png" --scene "$s" -s "$REF" -j 2 >/dev/null
-    tb=$(run "$W/b.png" --scene "$s" -s 1024 -j 2 --no-light-sampling)
-    eb=$(rmse "$W/ref.png" "$W/b.png")
-    read -r spp el tl ti < <(search "$W/l.png" "$eb" 4 --scene "$s" -j 2)
-    printf "%-12s %-30s %-46s %s\n" "$s" "RMSE $eb in $tb s" "$spp spp: RMSE $el in $tl s (at $eb: $ti s)" \
-        "$(awk -v a="$tb" -v b="$ti" 'BEGIN {printf "%.1fx", a / b}')"
+    ours "$W/ref.png" --scene "$s" -s "$REF" -j 2 >/dev/null
+    ours "$W/b.png" --scene "$s" -s 1024 -j 1 --no-light-sampling >/dev/null
+    compare "$s" "$(rmse "$W/ref.png" "$W/b.png")" \
+        "ours \"\$W/b.png\" --scene $s -s 1024 -j 1 --no-light-sampling" --scene "$s" -j 1
 done
+load
 
 [ -n "$BOOK" ] || exit 0
 SIZE=$BOOK_SIZE
-run "$W/ref.png" --scene book3-final -s "$REF" -j 2 >/dev/null
-"$BOOK/run.sh" rest "$SIZE" "$BOOK_SPP" 50 >"$W/book.ppm" 2>/dev/null # builds on its first use
-t0=$(date +%s.%N)
-"$BOOK/run.sh" rest "$SIZE" "$BOOK_SPP" 50 >"$W/book.ppm" 2>/dev/null
-t1=$(date +%s.%N)
-tb=$(awk -v a="$t0" -v b="$t1" 'BEGIN {printf "%.2f", b - a}')
-eb=$(rmse "$W/ref.png" "$W/book.ppm")
-read -r spp el tl ti < <(search "$W/l.png" "$eb" 1 --scene book3-final -j 1)
-echo "# book3-final, $SIZE x $SIZE, one core each; reference: rt-mpi, $REF spp"
-printf "%-30s %-52s %s\n" "the book's rest, $BOOK_SPP spp" "rt-mpi -j 1: first spp at that RMSE" \
-    "time ratio at equal RMSE"
-printf "%-30s %-52s %s\n" "RMSE $eb in $tb s" "$spp spp: RMSE $el in $tl s (at $eb: $ti s)" \
-    "$(awk -v a="$tb" -v b="$ti" 'BEGIN {printf "%.1fx", a / b}')"
+ours "$W/ref.png" --scene book3-final -s "$REF" -j 2 >/dev/null
+BOOKCMD="timed \"\$W/book.ppm\" \"$BOOK/run.sh\" rest $SIZE $BOOK_SPP 50"
+eval "$BOOKCMD" >/dev/null # builds on its first use
+echo "# book3-final, $SIZE x $SIZE, one core each; reference: rt-mpi, $REF spp (-j 2); medians of $ROUNDS" \
+    "interleaved rounds"
+echo "# the book's rest, $BOOK_SPP spp | rt-mpi -j 1: the two sample counts around that RMSE, the time" \
+    "interpolated to it | time ratio per core"
+compare "book's rest" "$(rmse "$W/ref.png" "$W/book.ppm")" "$BOOKCMD" --scene book3-final -j 1
+load

@@ -18,6 +18,7 @@ typedef struct light {
     rt_vec3 n;            /* quad: unit normal */
     double area;          /* quad */
     double prob;          /* of being chosen */
+    double emit;          /* luminance of its emission */
 } light;
 
 struct rt_lights {
@@ -28,20 +29,26 @@ struct rt_lights {
 
 static double luminance(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
-/* The emitter's power per unit area, up to the common factor pi: a
- * textured emitter counts as white. 0 for a material that emits nothing. */
-static double exitance(const rt_scene *s, uint32_t material)
+/* The luminance of an emitter's emission: a textured emitter counts as
+ * white. 0 for a material that emits nothing. */
+static double radiance(const rt_scene *s, uint32_t material)
 {
     const rt_material *m = &s->materials[material];
     if (m->kind != RT_MAT_EMITTER)
         return 0.0;
     const double lum = m->texture ? 1.0 : luminance(m->emit);
-    return (m->flags & RT_MAT_TWO_SIDED ? 2.0 : 1.0) * (lum > 0.0 ? lum : 0.0);
+    return lum > 0.0 ? lum : 0.0;
+}
+
+/* The emitter's power per unit area, up to the common factor pi. */
+static double exitance(const rt_scene *s, uint32_t material)
+{
+    return (s->materials[material].flags & RT_MAT_TWO_SIDED ? 2.0 : 1.0) * radiance(s, material);
 }
 
 static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
 {
-    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0};
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0};
     L.area = 4.0 * PI * radius * radius;
     return L;
 }
@@ -49,15 +56,17 @@ static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1,
 static light quad_light(uint32_t index, const rt_quad *q)
 {
     const rt_vec3 n = rt_v3_cross(q->u, q->v);
-    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0};
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0};
     return L;
 }
 
 /* Appends the light when its material emits; the power goes to prob. */
-static void add(light *items, uint32_t *n, light L, double exit)
+static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t material)
 {
+    const double exit = exitance(s, material);
     if (exit > 0.0 && L.area > 0.0) {
         L.prob = exit * L.area;
+        L.emit = radiance(s, material);
         items[(*n)++] = L;
     }
 }
@@ -72,14 +81,14 @@ int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
     uint32_t n = 0; /* in key order: spheres, quads, movers (rt_shape_kind), each by index */
     for (uint32_t i = 0; i < s->n_spheres; i++) {
         const rt_sphere *sp = &s->spheres[i];
-        add(items, &n, sphere_light(RT_SHAPE_SPHERE, i, sp->center, sp->center, sp->radius),
-            exitance(s, sp->material));
+        add(items, &n, sphere_light(RT_SHAPE_SPHERE, i, sp->center, sp->center, sp->radius), s,
+            sp->material);
     }
     for (uint32_t i = 0; i < s->shapes.quads.n; i++)
-        add(items, &n, quad_light(i, &s->shapes.quads.items[i]), exitance(s, s->shapes.quads.items[i].material));
+        add(items, &n, quad_light(i, &s->shapes.quads.items[i]), s, s->shapes.quads.items[i].material);
     for (uint32_t i = 0; i < s->shapes.movers.n; i++) {
         const rt_mover *m = &s->shapes.movers.items[i];
-        add(items, &n, sphere_light(RT_SHAPE_MOVER, i, m->center0, m->center1, m->radius), exitance(s, m->material));
+        add(items, &n, sphere_light(RT_SHAPE_MOVER, i, m->center0, m->center1, m->radius), s, m->material);
     }
     if (!n) {
         free(items);
@@ -146,8 +155,7 @@ static double quad_pdf(const light *L, rt_vec3 dir, double t)
     return c > 0.0 ? t * t / (c * L->area) : 0.0;
 }
 
-int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_vec3 *dir,
-                     uint32_t *kind, uint32_t *index)
+int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out)
 {
     uint32_t lo = 0, hi = l->n - 1; /* the first light whose cdf passes u */
     while (lo < hi) {
@@ -158,8 +166,11 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
             lo = mid + 1;
     }
     const light *L = &l->items[lo];
-    *kind = (uint32_t)(L->key >> 32);
-    *index = (uint32_t)L->key;
+    const double below = lo ? l->cdf[lo - 1] : 0.0, rest = (u - below) / L->prob;
+    out->kind = (uint32_t)(L->key >> 32);
+    out->index = (uint32_t)L->key;
+    out->emit = L->emit;
+    out->rest = rest < 1.0 ? (rest > 0.0 ? rest : 0.0) : 0x1.fffffffffffffp-1;
     const double s = rt_warp_unit((uint32_t)(u2 >> 32));
     if (is_quad(L)) {
         const rt_vec3 x = rt_v3_madd(rt_v3_madd(L->a, L->b, s), L->c, rt_warp_unit((uint32_t)u2));
@@ -167,7 +178,8 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
         const double len = rt_v3_len(d);
         if (!(len > 0.0) || rt_v3_dot(d, L->n) == 0.0)
             return 0;
-        *dir = rt_v3_scale(d, 1.0 / len);
+        out->dir = rt_v3_scale(d, 1.0 / len);
+        out->pdf = L->prob * quad_pdf(L, out->dir, len);
         return 1;
     }
     rt_vec3 w;
@@ -182,7 +194,8 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
     const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
     const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
     const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
-    *dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
+    out->dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
+    out->pdf = L->prob / (2.0 * PI * omc_max);
     return 1;
 }
 

@@ -42,13 +42,21 @@ void rt_lights_free(rt_lights *l);
 uint32_t rt_lights_count(const rt_lights *l);
 size_t rt_lights_bytes(const rt_lights *l);
 
+/* A direction toward a light, as rt_lights_sample gives it. */
+typedef struct rt_light_dir {
+    rt_vec3 dir;          /* unit */
+    uint32_t kind, index; /* the light's shape (world.h's rt_shape_kind, its index) */
+    double pdf;           /* the density of dir (rt_lights_pdf's), for the chosen point on a quad */
+    double emit;          /* the light's luminance (a textured one counts as white) */
+    double rest;          /* u's fraction within the chosen light's share: a number in [0, 1)
+                             independent of the choice, for the caller's own use */
+} rt_light_dir;
+
 /* A light to sample from point p at time `time`: chosen by u in [0, 1),
  * a direction toward it by the 2D number u2 (warp.h's two fractions).
- * Returns 1 with *dir (unit) and the light's shape (*kind: world.h's
- * rt_shape_kind, *index), 0 when the chosen light offers no direction
- * from p (p inside its sphere, or in its quad's plane). */
-int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_vec3 *dir,
-                     uint32_t *kind, uint32_t *index);
+ * Returns 1 with *out, 0 when the chosen light offers no direction from p
+ * (p inside its sphere, or in its quad's plane). */
+int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out);
 
 /* The density (per unit solid angle, the light's choice included) with
  * which rt_lights_sample gives unit direction dir from p, for a ray

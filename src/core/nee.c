@@ -62,27 +62,48 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
     return depth > 0.0 ? neg_exp(depth) : 1.0;
 }
 
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo, double time, rt_sampler *smp,
+/* Shadow-ray roulette (with the job's roulette): a shadow ray whose
+ * light, were it unoccluded, would add less than this (luminance of
+ * throughput x albedo x emission x the BSDF over the light's density) is
+ * traced with probability (that luminance / this), its light divided by
+ * that probability: unbiased, and the faint vertices (deep in a path, in
+ * book2-final's thin fog) spend fewer shadow rays. */
+#ifndef RT_NEE_SHADOW_KEEP
+#define RT_NEE_SHADOW_KEEP 0.05
+#endif
+
+static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, rt_sampler *smp,
                       uint64_t *segments)
 {
     const rt_vec3 none = {0, 0, 0};
     const double u = rt_sampler_get1d(smp);
     const uint64_t u2 = rt_sampler_get2d(smp);
-    rt_ray ray = {p, {0, 0, 0}};
-    uint32_t kind, index;
-    if (!rt_lights_sample(r->lights, p, time, u, u2, &ray.dir, &kind, &index))
+    rt_light_dir ld;
+    if (!rt_lights_sample(r->lights, p, time, u, u2, &ld))
         return none;
+    rt_ray ray = {p, ld.dir};
     const int iso = n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
     const double cosine = iso ? 1.0 : rt_v3_dot(ray.dir, n);
     if (!(cosine > 0.0)) /* below a lambertian surface: it reflects nothing there */
         return none;
     const double pdf_bsdf = iso ? 1.0 / (4.0 * PI) : cosine / PI;
+    double keep = 1.0;
+    if (r->job.roulette) {
+        const double est = luma(weight) * ld.emit * pdf_bsdf / ld.pdf;
+        if (est < RT_NEE_SHADOW_KEEP) {
+            keep = est / RT_NEE_SHADOW_KEEP;
+            if (!(ld.rest < keep))
+                return none;
+        }
+    }
     ++*segments;
-    rt_whit h = {0.0, kind, index}; /* rt_nee_closest's hit if nothing stands in front of the light */
-    if (!rt_world_shape_t(r->world, kind, index, &ray, time, T_MIN, &h.t) ||
-        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, kind, index))
+    rt_whit h = {0.0, ld.kind, ld.index}; /* rt_nee_closest's hit if nothing stands in front of the light */
+    if (!rt_world_shape_t(r->world, ld.kind, ld.index, &ray, time, T_MIN, &h.t) ||
+        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, ld.kind, ld.index))
         return none; /* occluded */
-    const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, kind, index, h.t);
+    const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, ld.kind, ld.index, h.t);
     if (!(pdf_light > 0.0))
         return none;
     const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
@@ -92,7 +113,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo
                          ? 1.0
                          : pdf_light * pdf_light / (pdf_light * pdf_light + pdf_bsdf * pdf_bsdf);
     const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
-    return rt_v3_scale(rt_v3_mul(albedo, le), pdf_bsdf * w * t / pdf_light);
+    return rt_v3_scale(rt_v3_mul(weight, le), pdf_bsdf * w * t / (pdf_light * keep));
 }
 
 double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time)

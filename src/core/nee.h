@@ -27,13 +27,15 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
     return rt_world_closest(r->world, ray, time, 0.001, INFINITY, h);
 }
 
-/* Light at vertex p reaching the path through the vertex's scattering:
- * albedo times the BSDF density pdf_bsdf of the shadow ray's direction
- * (lambertian about normal n: cos / pi, which is f cos; isotropic, n zero:
- * 1 / 4pi, which is f), times the emission, over the light's density,
- * weighted. Draws a 1D and a 2D number from smp (the light and the point).
- * Adds the shadow ray to *segments. */
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 albedo, double time, rt_sampler *smp,
+/* Light at vertex p reaching the pixel through the vertex's scattering:
+ * weight (the path's throughput times the vertex's albedo) times the BSDF
+ * density pdf_bsdf of the shadow ray's direction (lambertian about normal
+ * n: cos / pi, which is f cos; isotropic, n zero: 1 / 4pi, which is f),
+ * times the emission, over the light's density, weighted. Draws a 1D and
+ * a 2D number from smp (the light and the point; the 1D number's rest
+ * also decides the shadow-ray roulette, nee.c). Adds the shadow ray, when
+ * traced, to *segments. */
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, rt_sampler *smp,
                       uint64_t *segments);
 
 /* The weight of the emission a BSDF-sampled ray (from its origin, where

@@ -179,8 +179,7 @@ static __attribute__((noinline)) void direct2(const p2 *c, path *p, const vertex
                                                rt_vec3 albedo)
 {
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
-    const rt_vec3 l = rt_nee_direct(c->r, at, n, albedo, v->time, &p->smp, v->segs);
-    p->col = rt_v3_add(p->col, rt_v3_mul(p->thr, l));
+    p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, n, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_SCATTER);
 }
 

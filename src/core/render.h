@@ -33,8 +33,9 @@
  * sampler's numbers unchanged). 5: scenes with emitters sample their
  * lights (nee.h; sampler.h's lit layout), unless --no-light-sampling,
  * whose images, and those of every scene without emitters, keep version
- * 4's bytes. */
-#define RT_RENDER_SAMPLING 5u
+ * 4's bytes. 6: lit scenes' shadow rays under Russian roulette when
+ * faint (nee.c), decided by the light choice's number. */
+#define RT_RENDER_SAMPLING 6u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts
  * only paths whose throughput has fallen below RT_RENDER_ROULETTE_KEEP in

@@ -1,6 +1,7 @@
 /* test_lights.c - light sampling (lights.h, nee.h) is unbiased: a point
  * on a diffuse plane under a rectangular or a spherical emitter against
- * the closed form of its irradiance, by light sampling alone, BSDF sampling alone and MIS;
+ * the closed form of its irradiance, by light sampling alone, BSDF sampling alone and MIS
+ * (also with a faint emitter and the shadow-ray roulette);
  * a white furnace whose walls, a sphere and a moving sphere emit, with a
  * white medium inside (every pixel's radiance is the walls'); the
  * cornell-box's channel means with and without light sampling. Each
@@ -43,11 +44,13 @@ static void add_pixel(stat *st, const rt_renderer *r, uint32_t x, uint32_t y, ui
 static double mean(const stat *st, int i) { return st->sum[i] / (double)st->n; }
 static double se(const stat *st, int i) { return sqrt(st->sum2[i]) / (double)st->n; }
 
-static rt_renderer renderer(const rt_scene *s, rt_accel **a, uint32_t w, uint32_t h, uint32_t depth, uint32_t light)
+/* roulette: Russian roulette on (paths past its depth, faint shadow rays). */
+static rt_renderer renderer(const rt_scene *s, rt_accel **a, uint32_t w, uint32_t h, uint32_t depth, uint32_t light,
+                            int roulette)
 {
     rt_renderer r;
     CHECK_EQ_INT(rt_accel_new(a, s, RT_ACCEL_BVH), RT_OK);
-    const rt_job job = {w, h, 1, depth, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, 0, 0, 0, 0, light};
+    const rt_job job = {w, h, 1, depth, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_RANDOM, roulette, 0, 0, 0, light};
     CHECK_EQ_INT(rt_render_init(&r, s, *a, &job), RT_OK);
     return r;
 }
@@ -65,10 +68,12 @@ static double corner(double a, double b)
  * radiance 4: the rectangle x in [0.5, 1.5], z in [-0.5, 0.25] at height
  * 1, facing down (radiance off the plane: albedo / pi x irradiance =
  * albedo x L x form factor), or the sphere of radius 0.5 at height 2
- * (albedo x L x sin^2 of its half-angle). */
-static void check_analytic(int sphere)
+ * (albedo x L x sin^2 of its half-angle). faint: radiance 0.04 with the
+ * roulette on, so that nee.c's shadow-ray roulette keeps few shadow rays
+ * (their light divided by the chance). */
+static void check_analytic(int sphere, int faint)
 {
-    const double x0 = 0.5, x1 = 1.5, z0 = -0.5, z1 = 0.25, L = 4, rho = 0.5, rs = 0.5, hs = 2;
+    const double x0 = 0.5, x1 = 1.5, z0 = -0.5, z1 = 0.25, L = faint ? 0.04 : 4, rho = 0.5, rs = 0.5, hs = 2;
     const double want = sphere ? rho * L * rs * rs / (hs * hs)
                                : rho * L * (corner(x1, z1) - corner(x0, z1) - corner(x1, z0) + corner(x0, z0));
     rt_scene s;
@@ -88,12 +93,12 @@ static void check_analytic(int sphere)
     s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
     for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_NEE_ONLY; mode++) {
         rt_accel *a;
-        const rt_renderer r = renderer(&s, &a, 1, 1, 2, mode);
+        const rt_renderer r = renderer(&s, &a, 1, 1, 2, mode, faint);
         CHECK(mode == RT_LIGHT_BRUTE ? r.lights == NULL : r.lights != NULL && rt_lights_count(r.lights) == 1);
         stat st = {{0}, {0}, 0};
         add_pixel(&st, &r, 0, 0, 200000);
-        fprintf(stderr, "analytic %s, %s: %.5f, the closed form %.5f (se %.5f)\n", sphere ? "sphere" : "rectangle",
-                MODE[mode], mean(&st, 0), want, se(&st, 0));
+        fprintf(stderr, "analytic %s%s, %s: %.5f, the closed form %.5f (se %.5f)\n", faint ? "faint " : "",
+                sphere ? "sphere" : "rectangle", MODE[mode], mean(&st, 0), want, se(&st, 0));
         CHECK_NEAR(mean(&st, 0), want, 4 * se(&st, 0));
         rt_accel_free(a);
     }
@@ -124,7 +129,7 @@ static void check_furnace(void)
     s.background = rt_v3(0, 0, 0);
     s.camera = (rt_camera_desc){rt_v3(0, 0, 4.5), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 70, 0.0, 1.0, RT_PIXELS_BOOK2};
     rt_accel *a;
-    const rt_renderer r = renderer(&s, &a, 8, 8, 50, RT_LIGHT_MIS);
+    const rt_renderer r = renderer(&s, &a, 8, 8, 50, RT_LIGHT_MIS, 0);
     CHECK(r.lights != NULL && rt_lights_count(r.lights) == 8);
     stat st = {{0}, {0}, 0};
     for (uint32_t y = 0; y < 8; y++)
@@ -144,7 +149,7 @@ static void check_cornell(void)
     stat st[2] = {{{0}, {0}, 0}, {{0}, {0}, 0}};
     for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_BRUTE; mode++) {
         rt_accel *a;
-        const rt_renderer r = renderer(&s, &a, 12, 12, 6, mode);
+        const rt_renderer r = renderer(&s, &a, 12, 12, 6, mode, 0);
         for (uint32_t y = 0; y < 12; y++)
             for (uint32_t x = 0; x < 12; x++)
                 add_pixel(&st[mode], &r, x, y, mode == RT_LIGHT_MIS ? 512 : 8192);
@@ -161,8 +166,10 @@ static void check_cornell(void)
 
 int main(void)
 {
-    check_analytic(0);
-    check_analytic(1);
+    for (int faint = 0; faint <= 1; faint++) {
+        check_analytic(0, faint);
+        check_analytic(1, faint);
+    }
     check_furnace();
     check_cornell();
     CHECK_DONE();
