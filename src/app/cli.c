@@ -173,7 +173,8 @@ static int real(const char *val, double lo, double hi, int above_lo, double *out
 static int special(const optdef *d, const char *name, const char *val, rt_options *o, char *err, size_t errlen)
 {
     int k;
-    if (!strcmp(d->lng, "frames") || !strcmp(d->lng, "frame") || !strcmp(d->lng, "turntable"))
+    if (!strcmp(d->lng, "frames") || !strcmp(d->lng, "frame") || !strcmp(d->lng, "turntable") ||
+        !strcmp(d->lng, "shutter"))
         return rt_cli_frames_option(d->lng, name, val, o, err, errlen);
     if (!strcmp(d->lng, "accel")) {
         if ((k = rt_accel_parse(val)) < 0) {
@@ -215,11 +216,6 @@ static int special(const optdef *d, const char *name, const char *val, rt_option
             return RT_EINVAL;
         }
         o->split = val[0] == 'c' ? RT_SPLIT_COLUMNS : RT_SPLIT_SAMPLES;
-    } else if (!strcmp(d->lng, "shutter")) {
-        if (rt_anim_parse_shutter(val, &o->anim)) {
-            snprintf(err, errlen, "%s: '%s' is not OPEN,CLOSE with 0 <= OPEN <= CLOSE <= 1", name, val);
-            return RT_EINVAL;
-        }
     } else if (!strcmp(d->lng, "aov")) {
         o->job.aov = 0;
         for (const char *p = val; *p;) {

@@ -84,7 +84,7 @@ int rt_cli_check_output(const rt_options *o, char *err, size_t errlen);
 int rt_cli_check_path(const char *opt, const char *path, char *err, size_t errlen);
 
 /* cli_frames.c: the frame job's options. */
-/* --frames, --frame, --turntable (lng without "--", name as given): RT_OK,
+/* --frames, --frame, --turntable, --shutter (lng without "--", name as given): RT_OK,
  * or RT_EINVAL with err filled. */
 int rt_cli_frames_option(const char *lng, const char *name, const char *val, rt_options *o, char *err, size_t errlen);
 /* Combinations that make no sense, once every option is read. */

@@ -1,5 +1,5 @@
-/* cli_frames.c - the options of a frame job (issue 37): --frames, --frame
- * and --turntable, and the checks of its output patterns (every frame's
+/* cli_frames.c - the options of a frame job (issue 37): --frames, --frame,
+ * --turntable and --shutter, and the checks of its output patterns (every frame's
  * files creatable, no two patterns naming the same file). */
 #include <math.h>
 #include <stdio.h>
@@ -28,6 +28,13 @@ int rt_cli_frames_option(const char *lng, const char *name, const char *val, rt_
         }
         o->anim.turn_degrees = deg;
         o->anim.turn_frames = (uint32_t)n;
+        return RT_OK;
+    }
+    if (!strcmp(lng, "shutter")) {
+        if (rt_anim_parse_shutter(val, &o->anim)) {
+            snprintf(err, errlen, "%s: '%s' is not OPEN,CLOSE with 0 <= OPEN <= CLOSE <= 1", name, val);
+            return RT_EINVAL;
+        }
         return RT_OK;
     }
     if (o->frame_job) {

@@ -225,8 +225,10 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     if (!doc)
         return RT_ENOMEM;
     add_str(doc, "output", s->output, &ok);
-    if (s->frame_job)
+    if (s->frame_job) {
         add_num(doc, "frame", s->frame, &ok);
+        add_num(doc, "frames_held_peak", s->frames_peak, &ok);
+    }
     add_num(doc, "width", s->job->width, &ok);
     add_num(doc, "height", s->job->height, &ok);
     add_num(doc, "samples", s->job->samples, &ok);

@@ -41,6 +41,7 @@ typedef struct rt_run_summary {
     const struct rt_spp_stats *spp; /* adaptive sampling, or NULL */
     int frame_job;  /* a frame of a frame job: its number is recorded */
     uint32_t frame;
+    uint32_t frames_peak; /* frame job: frames held on rank 0 at most so far */
 } rt_run_summary;
 
 /* Where adaptive sampling put the samples: the mean per pixel, and how

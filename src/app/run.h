@@ -73,6 +73,7 @@ typedef struct rt_run_root {
     rt_progress progress;
     rt_farm_rank0 own;    /* the framebuffer and hooks the farm gets */
     rt_farm_client client; /* the hooks' context */
+    struct rt_run_writer *writer; /* a frame job's writer thread, or NULL */
 } rt_run_root;
 
 /* What the run measures. */
@@ -132,17 +133,65 @@ void rt_run_ckpt_done(const rt_options *o, const rt_run_root *r);
  * (removed or kept), the summary on stdout, --stats and --trace. */
 void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r,
                    const rt_run_result *res);
+/* What the summary says of a frame's camera-ray lists, taken before the
+ * next frame rebuilds them (the writer thread prints it later). */
+typedef struct rt_run_lists {
+    int built;
+    uint32_t tiles, listed;
+    size_t cand, bytes;
+} rt_run_lists;
+rt_run_lists rt_run_lists_of(const rt_run_setup *s);
+/* A failure kept for the main thread (only it calls MPI). */
+typedef struct rt_run_fault {
+    rt_exit_code code;
+    char msg[1024];
+} rt_run_fault;
+/* How rank 0 finishes a frame. */
+typedef struct rt_run_finish_how {
+    rt_run_lists lists;
+    rt_run_fault *fault;  /* NULL: a failure ends the job at once */
+    int ckpt;             /* this frame may write or remove the checkpoint */
+    uint32_t frames_peak; /* frames held on rank 0 at most so far (0: one image) */
+} rt_run_finish_how;
+/* rt_run_finish without the progress line's end, in any thread when
+ * how->fault is given (s read-only, its camera-ray lists from how): 0, or
+ * -1 with how->fault filled. Reads r, never frees it. */
+int rt_run_finish_frame(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, const rt_run_root *r,
+                        const rt_run_result *res, const rt_run_finish_how *how);
 /* The three values at `first` of every pixel of acc (the colour 0, or an
  * AOV of lay) as 3 sums per pixel of the job's samples (rt_image_extract);
  * NULL when out of memory. Free with rt_mem_free. */
 int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first);
 
 /* sequence.c: a frame job (--frames, --frame): every frame of the range in
- * turn over the same scene, renderer and farm, each written as soon as it
- * is done; on --resume, frames whose files exist are skipped and the
+ * turn over the same scene, renderer and farm, each handed to rank 0's
+ * writer thread as soon as it is done; on --resume, frames whose files exist are skipped and the
  * checkpoint's frame continues. */
 void rt_run_frames(rt_run *run);
 
+/* writer.c: a frame job's writer thread on rank 0 (rank and s outlive it;
+ * s read-only, as rt_run_finish_frame). */
+#define RT_RUN_WRITER_QUEUE 2 /* frames waiting for the writer at most */
+typedef struct rt_run_writer rt_run_writer;
+/* Starts the thread; fails the job itself. */
+rt_run_writer *rt_run_writer_start(const rt_run_rank *rank, const rt_run_setup *s);
+/* A frame's framebuffer is allocated (counted in the peak). */
+void rt_run_writer_hold(rt_run_writer *w);
+/* Hands over frame `fo` (its files in paths, copied) and the render in
+ * root and result (moved: they are zeroed); `last`: the job's last frame
+ * (it may write or remove the checkpoint). Waits while the queue is full;
+ * an earlier frame's failed write ends the job here. */
+void rt_run_writer_put(rt_run_writer *w, const rt_run_cmd *cmd, const rt_options *fo, const rt_frame_paths *paths,
+                       rt_run_root *root, rt_run_result *result, int last);
+/* Waits for every queued frame to be written, then ends the thread and
+ * frees w; a failed write ends the job here (one line, its exit code). */
+void rt_run_writer_finish(rt_run_writer *w);
+/* A signal stops the job: the file being written is finished, the frames
+ * waiting are dropped (rendered again on --resume), w is freed. */
+void rt_run_writer_stop(rt_run_writer *w);
+
+/* Frees what a frame's render left (root, res), and zeroes them. */
+void rt_run_release(rt_run_root *r, rt_run_result *res);
 /* Frees what each part holds (parts never filled are zero). */
 void rt_run_free(rt_run *run);
 

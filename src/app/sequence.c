@@ -5,7 +5,9 @@
  * range or alone (--frame N). A finished frame is its file; the checkpoint
  * lives for the whole job (kept complete after each frame, so that it is
  * there whenever the job stops) and holds the frame in flight; --resume
- * skips the frames whose files exist and continues the checkpoint's. */
+ * skips the frames whose files exist and continues the checkpoint's.
+ * Rank 0 hands each rendered frame to its writer thread (writer.c) and
+ * serves the next frame's units at once. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,18 +38,6 @@ static uint32_t resumed_frame(const rt_options *o, const rt_run_rank *rank, cons
     return frame;
 }
 
-/* What one frame's render leaves on rank 0. */
-static void free_frame(rt_run *run)
-{
-    rt_run_root *r = &run->root;
-    rt_mem_free(r->acc, r->acc_len * sizeof *r->acc);
-    free(r->restored);
-    free(run->result.farm.ranks);
-    free(run->result.farm.trace);
-    memset(&run->root, 0, sizeof run->root);
-    memset(&run->result, 0, sizeof run->result);
-}
-
 /* The range so far, for the progress line and its ETA over the whole range. */
 typedef struct range {
     double t0;              /* the job's start */
@@ -56,15 +46,19 @@ typedef struct range {
     uint64_t segments;      /* of the frames rendered so far */
 } range;
 
-/* Frame `frame` with the frame's options fo: rendered, then written (rank 0). */
-static void render_frame(rt_run *run, const rt_options *fo, range *g)
+/* Frame `frame` with the frame's options fo (its files in paths):
+ * rendered, then handed to rank 0's writer w. */
+static void render_frame(rt_run *run, const rt_options *fo, const rt_frame_paths *paths, rt_run_writer *w, int last,
+                         range *g)
 {
     rt_run_rank *rank = &run->rank;
     rt_run_setup *setup = &run->setup;
     const double t0 = rt_now();
     rt_run_frame_camera(fo, rank, setup, fo->frame);
     if (rank->root) {
+        rt_run_writer_hold(w);
         rt_run_root_init(fo, rank, setup, &run->root);
+        run->root.writer = w; /* joined before a signal's exit */
         rt_progress *p = &run->root.progress;
         const uint64_t h = fo->job.height;
         g->base_rows += run->root.rows_restored;
@@ -77,12 +71,11 @@ static void render_frame(rt_run *run, const rt_options *fo, range *g)
     rt_farm_render(&rank->farm, &setup->job, rank->root ? &run->root.own : NULL, &run->result.farm);
     rt_mem_settle(&run->root.fb);
     if (rank->root) {
-        rt_run_cmd fc = run->cmd; /* the frame's copy: its files, its number */
-        fc.opt = *fo;
-        rt_run_finish(&fc, rank, setup, &run->root, &run->result);
+        rt_progress_finish(&run->root.progress, run->result.farm.segments);
         g->segments += run->result.farm.segments;
+        rt_run_writer_put(w, &run->cmd, fo, paths, &run->root, &run->result, last);
     }
-    free_frame(run);
+    rt_run_release(&run->root, &run->result); /* what the frame's render left */
 }
 
 void rt_run_frames(rt_run *run)
@@ -97,6 +90,7 @@ void rt_run_frames(rt_run *run)
     rt_frame_paths *paths = malloc(sizeof *paths);
     if (!paths)
         rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "out of memory");
+    rt_run_writer *w = rank->root ? rt_run_writer_start(rank, &run->setup) : NULL;
     for (uint32_t i = 0; i < n; i++) {
         rt_options fo;
         const uint32_t frame = rt_frames_at(&o->frames, i);
@@ -114,9 +108,14 @@ void rt_run_frames(rt_run *run)
         fo.resume = o->resume && frame == resume;
         fo.keep_checkpoint = 1; /* removed once the last frame is written */
         fo.done_file = i + 1 < n ? NULL : o->done_file;
-        render_frame(run, &fo, &g);
+        render_frame(run, &fo, paths, w, i + 1 == n, &g);
     }
     free(paths);
+    /* Every file written (the done file is the last frame's, after all
+     * of them), or a failed write's line and exit code, before the
+     * checkpoint goes. */
+    if (w)
+        rt_run_writer_finish(w);
     if (rank->root && o->checkpoint && !o->keep_checkpoint)
         unlink(o->checkpoint);
 }

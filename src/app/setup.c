@@ -226,6 +226,8 @@ static void on_pass(rt_farm_client *c, uint32_t pass, uint32_t samples, const ui
 static void on_stopped(rt_farm_client *c, int sig, int saved, uint32_t rows_done, uint32_t rows)
 {
     const rt_progress *p = &c->root->progress;
+    if (c->root->writer) /* the file being written is finished first */
+        rt_run_writer_stop(c->root->writer);
     if (p->enabled && p->tty)
         fputc('\n', stderr);
     if (c->opt->checkpoint)

@@ -2,6 +2,7 @@
  * its text chunks), the checkpoint removed or kept, the summary on stdout
  * (greppable in batch logs) and the --stats and --trace reports. */
 #include <inttypes.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -67,22 +68,39 @@ typedef struct finish {
     const rt_run_root *r;
     const rt_farm_result *res;
     double setup; /* seconds (rt_run_result) */
+    const rt_run_finish_how *how;
 } finish;
 
-/* Writing an output failed: the sums go to the checkpoint. */
-static void fail_write(const finish *F, const char *path, int st)
+/* A failure: the job ends here, or (the writer thread, which may not call
+ * MPI) it is kept for the main thread and -1 returned. */
+__attribute__((format(printf, 3, 4))) static int fail(const finish *F, rt_exit_code code, const char *fmt, ...)
 {
-    rt_farm_fail(F->f, RT_EXIT_RUNTIME, "writing %s: %s%s", path, rt_status_str(st),
-                 rt_run_ckpt_keep_render(F->o, F->r) == RT_OK ? " (the rendered image is saved in the checkpoint: "
-                                                         "free space and rerun with --resume)"
-                                                       : "");
+    char msg[sizeof F->how->fault->msg];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (!F->how->fault)
+        rt_farm_fail(F->f, code, "%s", msg);
+    F->how->fault->code = code;
+    memcpy(F->how->fault->msg, msg, sizeof msg);
+    return -1;
+}
+
+/* Writing an output failed: the sums go to the checkpoint (when this
+ * frame may write it). */
+static int fail_write(const finish *F, const char *path, int st)
+{
+    const int kept = F->how->ckpt && rt_run_ckpt_keep_render(F->o, F->r) == RT_OK;
+    return fail(F, RT_EXIT_RUNTIME, "writing %s: %s%s", path, rt_status_str(st),
+                kept ? " (the rendered image is saved in the checkpoint: free space and rerun with --resume)" : "");
 }
 
 /* The output file, with what made it (PNG text chunks, EXR attributes): no
  * time, host or rank count, so that it stays byte-identical however it was
  * rendered. On failure the finished sums go to the checkpoint, so that a
  * resume only has to write the image. */
-static void write_image(const finish *F, const int64_t *colour)
+static int write_image(const finish *F, const int64_t *colour)
 {
     const rt_options *o = F->o;
     char seed_s[32], spp_s[32], sampling_s[16], cmdline[640], frame_s[16];
@@ -106,8 +124,7 @@ static void write_image(const finish *F, const int64_t *colour)
                               .text = text,
                               .n_text = (int)(sizeof text / sizeof text[0]) - !o->frame_job};
     int st = rt_image_write(o->output, colour, o->job.width, o->job.height, o->job.samples, &wo);
-    if (st)
-        fail_write(F, o->output, st);
+    return st ? fail_write(F, o->output, st) : 0;
 }
 
 int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first)
@@ -129,7 +146,7 @@ static void aov_path(const char *output, const char *name, char *buf, size_t n)
 }
 
 /* The denoiser's buffers (--aov) and the samples-per-pixel map. */
-static void write_extras(const finish *F)
+static int write_extras(const finish *F)
 {
     const rt_options *o = F->o;
     const rt_layout *lay = &F->s->renderer.lay;
@@ -147,26 +164,27 @@ static void write_extras(const finish *F)
         aov_path(o->output, aovs[k].name, path, sizeof path);
         int64_t *v = rt_run_values(&o->job, *lay, acc, aovs[k].first);
         if (!v)
-            rt_farm_fail(F->f, RT_EXIT_RUNTIME, "out of memory for the %s buffer", aovs[k].name);
+            return fail(F, RT_EXIT_RUNTIME, "out of memory for the %s buffer", aovs[k].name);
         int st = rt_image_write(path, v, o->job.width, o->job.height, o->job.samples, &wo);
         rt_mem_free(v, (size_t)o->job.width * o->job.height * 3 * sizeof *v);
         if (st)
-            fail_write(F, path, st);
+            return fail_write(F, path, st);
     }
     if (o->spp_map) {
         /* a pixel's samples as its value: count / samples once divided */
         const size_t npix = (size_t)o->job.width * o->job.height;
         int64_t *v = rt_mem_zeroed(npix * 3 * sizeof *v);
         if (!v)
-            rt_farm_fail(F->f, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
+            return fail(F, RT_EXIT_RUNTIME, "out of memory for the samples-per-pixel map");
         for (size_t i = 0; i < npix; i++)
             v[3 * i] = v[3 * i + 1] = v[3 * i + 2] = acc[i * lay->ch + lay->count] << RT_FIX_SHIFT;
         rt_image_write_opts wm = {.bit_depth = o->bit_depth, .ppm_ascii = o->ppm_ascii, .text = text, .n_text = 1};
         int st = rt_image_write(o->spp_map, v, o->job.width, o->job.height, o->job.samples, &wm);
         rt_mem_free(v, npix * 3 * sizeof *v);
         if (st)
-            fail_write(F, o->spp_map, st);
+            return fail_write(F, o->spp_map, st);
     }
+    return 0;
 }
 
 /* Where adaptive sampling put the samples: how many pixels took
@@ -198,20 +216,24 @@ static void print_spp(const rt_spp_stats *st, uint32_t samples, size_t npix)
     printf("\n");
 }
 
-static void print_intersector(const rt_options *o, const rt_run_setup *s)
+rt_run_lists rt_run_lists_of(const rt_run_setup *s)
+{
+    rt_run_lists l = {.built = s->primary != NULL, .bytes = rt_primary_bytes(s->primary)};
+    if (s->primary)
+        rt_primary_stats(s->primary, &l.tiles, &l.listed, &l.cand);
+    return l;
+}
+
+static void print_intersector(const rt_options *o, const rt_run_setup *s, const rt_run_lists *l)
 {
     const char *box_test = rt_accel_box_test(s->accel);
     printf("intersector:   %s (%s%s", rt_accel_name(o->accel), box_test ? box_test : "",
            box_test ? " box test, " : "");
     if (s->renderer.bvh_avx)
         printf("packets of %d rays, ", RT_RENDER_PACKET);
-    if (s->primary) {
-        uint32_t tiles, listed;
-        size_t cand;
-        rt_primary_stats(s->primary, &tiles, &listed, &cand);
-        printf("camera-ray lists on %u of %u tiles, ", listed, tiles);
-    }
-    printf("%.0f KiB)\n", (rt_accel_bytes(s->accel) + rt_primary_bytes(s->primary)) / 1024.0);
+    if (l->built)
+        printf("camera-ray lists on %u of %u tiles, ", l->listed, l->tiles);
+    printf("%.0f KiB)\n", (rt_accel_bytes(s->accel) + l->bytes) / 1024.0);
 }
 
 static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *spp)
@@ -233,7 +255,7 @@ static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *sp
     else
         printf("scene:         %s", o->scene);
     printf(", %u spheres, hash %016" PRIx64 "\n", F->s->scene.n_spheres, F->s->scene_hash);
-    print_intersector(o, F->s);
+    print_intersector(o, F->s, &F->how->lists);
     printf("ranks:         %d x %d threads%s, %u units", ranks, F->rank->threads,
            F->rank->bound ? " (one per CPU, bound)" : "", res->units);
     if (r->samples_restored)
@@ -275,6 +297,9 @@ static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *sp
                    r->lost_at, r->silent, r->units_redone, r->redone);
         printf("\n");
     }
+    if (F->how->frames_peak)
+        printf("frames held:   peak %u on rank 0 (at most %u waiting for the writer thread)\n", F->how->frames_peak,
+               RT_RUN_WRITER_QUEUE);
     printf("image hash:    %016" PRIx64 "\n", hash);
     fflush(stdout);
 }
@@ -311,7 +336,8 @@ static void write_reports(const finish *F, uint64_t hash, const rt_spp_stats *sp
                           .farm = res,
                           .spp = spp,
                           .frame_job = o->frame_job,
-                          .frame = o->frame};
+                          .frame = o->frame,
+                          .frames_peak = F->how->frames_peak};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));
@@ -337,45 +363,61 @@ static void write_done(const finish *F, uint64_t hash)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", path, rt_status_str(st));
 }
 
-void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r,
-                   const rt_run_result *res)
+int rt_run_finish_frame(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, const rt_run_root *r,
+                        const rt_run_result *res, const rt_run_finish_how *how)
 {
     const finish F = {.cmd = cmd, .o = &cmd->opt, .f = &rank->farm, .rank = rank, .s = s, .r = r,
-                      .res = &res->farm, .setup = res->setup};
+                      .res = &res->farm, .setup = res->setup, .how = how};
     const rt_job *j = &cmd->opt.job;
     const rt_layout lay = s->renderer.lay;
     size_t npix = (size_t)j->width * j->height;
-    rt_progress_finish(&r->progress, res->farm.segments);
     /* The image hash: of the 8-bit image, whatever the output format. */
     uint8_t *rgb = malloc(npix * 3);
-    if (!rgb)
-        rt_farm_fail(F.f, RT_EXIT_RUNTIME, "out of memory for the output image");
     int64_t *colour = r->acc;
-    if (lay.ch != 3 && !(colour = rt_run_values(j, lay, r->acc, 0)))
-        rt_farm_fail(F.f, RT_EXIT_RUNTIME, "out of memory for the output image");
+    if (!rgb || (lay.ch != 3 && !(colour = rt_run_values(j, lay, r->acc, 0)))) {
+        free(rgb);
+        return fail(&F, RT_EXIT_RUNTIME, "out of memory for the output image");
+    }
     rt_image_to_rgb8(colour, npix, j->samples, rgb);
     uint64_t hash = rt_image_hash(rgb, npix * 3);
     free(rgb);
-    write_image(&F, colour);
+    const int st = write_image(&F, colour);
     if (colour != r->acc)
         rt_mem_free(colour, npix * 3 * sizeof *colour);
-    write_extras(&F);
-    rt_run_ckpt_done(F.o, r);
+    if (st || write_extras(&F))
+        return -1;
+    if (how->ckpt)
+        rt_run_ckpt_done(F.o, r);
     rt_spp_stats spp;
     if (lay.count)
         spp_tally(&spp, r->acc, npix, lay, j->samples);
     print_summary(&F, hash, lay.count ? &spp : NULL);
     write_reports(&F, hash, lay.count ? &spp : NULL);
     write_done(&F, hash);
+    return 0;
+}
+
+void rt_run_finish(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r,
+                   const rt_run_result *res)
+{
+    const rt_run_finish_how how = {.lists = rt_run_lists_of(s), .ckpt = 1};
+    rt_progress_finish(&r->progress, res->farm.segments);
+    rt_run_finish_frame(cmd, rank, s, r, res, &how);
+}
+
+void rt_run_release(rt_run_root *r, rt_run_result *res)
+{
+    rt_mem_free(r->acc, r->acc_len * sizeof *r->acc);
+    free(r->restored);
+    free(res->farm.ranks);
+    free(res->farm.trace);
+    memset(r, 0, sizeof *r);
+    memset(res, 0, sizeof *res);
 }
 
 void rt_run_free(rt_run *run)
 {
-    rt_run_root *r = &run->root;
-    rt_mem_free(r->acc, r->acc_len * sizeof *r->acc);
-    free(r->restored);
-    free(run->result.farm.ranks);
-    free(run->result.farm.trace);
+    rt_run_release(&run->root, &run->result);
     rt_primary_free(run->setup.primary);
     rt_accel_free(run->setup.accel);
     rt_scene_free(&run->setup.scene);

@@ -89,4 +89,30 @@ if [ -n "$MPIRUN" ]; then
 else
     skip "mpirun not found: frame jobs over ranks"
 fi
+# ---- rank 0's writer thread ---------------------------------------------------
+# 8 frames over 2 ranks: each file (written by the writer thread while the
+# next frame renders) is the frame alone, the summaries come in frame order,
+# and each names the peak of frames held on rank 0 (1 to 4: at most 2 waiting,
+# one being written, one rendering), never falling.
+W=(--width 40 --height 24 -s 2 --grid 2 --turntable 45:8 -q)
+for f in 0 1 2 3 4 5 6 7; do alone writer "$f" "${W[@]}"; done
+if [ -n "$MPIRUN" ]; then
+    same_frames "writer thread: 8 frames -np 2" writer 0 7 1 mpirun_np 2 "$BIN" "${W[@]}" -j 1 --frames 0-7
+else
+    same_frames "writer thread: 8 frames -j 2" writer 0 7 1 "$BIN" "${W[@]}" -j 2 --frames 0-7
+fi
+check_eq "writer thread: summaries in frame order" "$(sed -n 's/^frame: *//p' "$WORK/seq.out" | tr '\n' ' ')" \
+    "0 1 2 3 4 5 6 7 "
+peaks=$(sed -n 's/^frames held: *peak \([0-9]*\) on rank 0 (at most 2 waiting for the writer thread)$/\1/p' "$WORK/seq.out" | tr '\n' ' ')
+check_eq "writer thread: every summary names the peak (1 to 4, never falling)" \
+    "$(awk -v p="$peaks" 'BEGIN { n = split(p, a, " "); ok = n == 8; for (i = 1; i <= n; i++) ok = ok && a[i] >= 1 && a[i] <= 4 && (i == 1 || a[i] >= a[i-1]); print ok ? "yes" : "no: " p }')" "yes"
+# a write that fails in the middle of the range (frame 3's name is a
+# directory): one line, exit 1; the frames before it written, none after
+rm -rf "$WORK/wf" && mkdir -p "$WORK/wf/f_3.png"
+"$BIN" "${W[@]}" -j 2 --frames 0-7 -o "$WORK/wf/f_#.png" >/dev/null 2>"$WORK/wf.err"
+check_eq "writer thread: a failed write's exit status" "$?" "1"
+check_eq "writer thread: a failed write's one line" "$(cat "$WORK/wf.err")" \
+    "rt-mpi: error: writing $WORK/wf/f_3.png: $(sed -n 's/^rt-mpi: error: writing [^:]*: //p' "$WORK/wf.err")"
+check_eq "writer thread: a failed write's files" "$(ls "$WORK/wf" | tr '\n' ' ')" "f_0.png f_1.png f_2.png f_3.png "
+check_eq "writer thread: nothing written into the directory" "$(ls -A "$WORK/wf/f_3.png" | wc -l)" "0"
 finish
