@@ -5,7 +5,7 @@
 # Slurm sets for a job or an array task:
 #   RT_FRAMES=A-B          -> --frames A-B (one job for the range)
 #   --array=A-B            -> --frame <task id>
-#   --array=A-B:S          -> --frames <id>-<id+S-1>, the last task clipped at B
+#   --array=A-B:S          -> --frames <id>-<id+S-1>, clipped at RT_LAST_FRAME
 #   RT_CHUNK               -> that many frames per task instead of S
 # and refuses RT_FRAMES in an array or a bad RT_CHUNK (exit 2).
 BIN=$(readlink -f "$1")
@@ -14,7 +14,7 @@ SCRIPT=$(cd "$(dirname "$0")/../../scripts/slurm" && pwd)/rt-mpi.sbatch
 # dry ENV... -> the renderer's words from -o on, one line (the script's status in $?)
 dry() {
     local out rc
-    out=$(env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_STEP -u SLURM_ARRAY_TASK_MAX -u RT_FRAMES -u RT_CHUNK \
+    out=$(env -u SLURM_ARRAY_TASK_ID -u SLURM_ARRAY_TASK_STEP -u SLURM_ARRAY_TASK_MAX -u RT_FRAMES -u RT_CHUNK -u RT_LAST_FRAME \
         -u RT_OUTPUT -u RT_CHECKPOINT RT_DRY_RUN=1 RT_MPI_BIN="$BIN" SLURM_SUBMIT_DIR="$WORK" SLURM_JOB_ID=7 \
         "$@" bash "$SCRIPT" 2>"$WORK/dry.err")
     rc=$?
@@ -33,9 +33,16 @@ check_eq "--array=1-250: task 17 renders frame 17, its own checkpoint" "$c" \
     "-o $WORK/rt-mpi-5-####.png --frame 17 -j 1 --checkpoint $WORK/rt-mpi-5-####.png.ckpt.task17 --done-file $WORK/rt-mpi-5-####.png.ckpt.task17.done"
 c=$(dry RT_OUTPUT=t.png SLURM_ARRAY_TASK_ID=11 SLURM_ARRAY_TASK_STEP=10 SLURM_ARRAY_TASK_MAX=250)
 check_eq "--array=1-250:10: task 11 renders its chunk" "${c%% -j *}" "-o t.png --frames 11-20"
-c=$(dry RT_OUTPUT=t.png SLURM_ARRAY_TASK_ID=241 SLURM_ARRAY_TASK_STEP=10 SLURM_ARRAY_TASK_MAX=245)
-check_eq "--array=1-245:10: the last chunk stops at 245" "${c%% -j *}" "-o t.png --frames 241-245"
-c=$(dry RT_OUTPUT=t.png SLURM_ARRAY_TASK_ID=245 SLURM_ARRAY_TASK_STEP=4 SLURM_ARRAY_TASK_MAX=245)
+# Slurm gives a task the last task's id (241 for 1-245:10), not the range's end
+c=$(dry RT_OUTPUT=t.png SLURM_ARRAY_TASK_ID=241 SLURM_ARRAY_TASK_STEP=10 SLURM_ARRAY_TASK_MAX=241)
+check_eq "--array=1-245:10 without RT_LAST_FRAME: a whole chunk" "${c%% -j *}" "-o t.png --frames 241-250"
+c=$(dry RT_OUTPUT=t.png RT_LAST_FRAME=245 SLURM_ARRAY_TASK_ID=241 SLURM_ARRAY_TASK_STEP=10 SLURM_ARRAY_TASK_MAX=241)
+check_eq "--array=1-245:10, RT_LAST_FRAME=245: the last chunk stops at 245" "${c%% -j *}" "-o t.png --frames 241-245"
+c=$(dry RT_OUTPUT=t.png SLURM_ARRAY_TASK_ID=2 SLURM_ARRAY_TASK_STEP=2 SLURM_ARRAY_TASK_MAX=2)
+check_eq "--array=0-3:2 (the slurm test's): task 2 renders 2-3" "${c%% -j *}" "-o t.png --frames 2-3"
+dry RT_OUTPUT=t.png RT_LAST_FRAME=5 SLURM_ARRAY_TASK_ID=9 SLURM_ARRAY_TASK_STEP=3 >/dev/null
+check_eq "RT_LAST_FRAME before the task's first frame: exit" $? 2
+c=$(dry RT_OUTPUT=t.png RT_LAST_FRAME=245 SLURM_ARRAY_TASK_ID=245 SLURM_ARRAY_TASK_STEP=4 SLURM_ARRAY_TASK_MAX=245)
 check_eq "a chunk of one frame at the end: --frame" "${c%% -j *}" "-o t.png --frame 245"
 c=$(dry RT_OUTPUT=t.png RT_CHUNK=3 SLURM_ARRAY_TASK_ID=9 SLURM_ARRAY_TASK_STEP=3 SLURM_ARRAY_TASK_MAX=100)
 check_eq "RT_CHUNK=3" "${c%% -j *}" "-o t.png --frames 9-11"
