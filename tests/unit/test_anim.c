@@ -252,6 +252,7 @@ static void test_bytes(void)
     CHECK_EQ_INT(rt_scene_deserialize(&back, b, n), RT_OK);
     CHECK_EQ_INT(back.keys.n, 2);
     CHECK_EQ_INT(memcmp(back.keys.items, k, sizeof k), 0);
+    rt_scene_free(&back);
     b[n - 12] = 3; /* the keys' count: the length no longer fits */
     CHECK_EQ_INT(rt_scene_deserialize(&back, b, n), RT_EFORMAT);
     free(b);
