@@ -223,8 +223,10 @@ int rt_farm_bind_threads(const rt_farm *f, int threads);
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
-/* Renders the whole image. Collective: every rank gives the same job, rank
- * 0 its own part too (the other ranks' own is not read: NULL). Returns
+/* Renders the whole image (a frame job: all its frames, each handed to
+ * hooks.frame as soon as it is complete, res the whole range's).
+ * Collective: every rank gives the same job, rank 0 its own part too (the
+ * other ranks' own is not read: NULL). Returns
  * only when every sum is in (res filled): a failure ends the job here with
  * RT_EXIT_RUNTIME, and on SIGTERM, SIGINT or SIGUSR1 rank 0 saves
  * (hooks.save), calls hooks.stopped and the job ends with

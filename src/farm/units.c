@@ -11,8 +11,9 @@
  * holds frame index k's, built (job->frame_renderer) by the thread that
  * takes the first unit of k that the slot sees, under the stream's lock:
  * the other threads go on rendering their runs meanwhile, and wait only if
- * they need a new run before it is built (once per frame and rank, the
- * work rt_run_frame_camera did before each frame). The slot must hold no
+ * they need a new run before it is built (once per frame and rank: the
+ * camera, shutter and camera-ray lists that the frame-by-frame job set up
+ * before each frame on every rank). The slot must hold no
  * unit in hand then: the cap guarantees it (a unit of frame k is handed
  * out only when every frame before k - cap + 1 is complete, so every unit
  * of frame k - RT_FARM_RING is done on every rank), and a slot still in use
