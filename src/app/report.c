@@ -271,7 +271,7 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
         add_num(doc, "lost_ranks", s->farm->lost, &ok);
     }
     cJSON *ranks = add(doc, "per_rank", cJSON_CreateArray(), &ok);
-    for (int r = 0; ranks && r < s->ranks; r++) {
+    for (int r = 0; ranks && s->per_rank && r < s->ranks; r++) {
         const rt_rank_stats *x = &s->per_rank[r];
         double idle = s->wall - x->busy - x->comm;
         cJSON *e = add(ranks, NULL, cJSON_CreateObject(), &ok);

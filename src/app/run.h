@@ -58,6 +58,7 @@ struct rt_farm_client {
     const rt_options *opt;
     rt_layout lay;
     struct rt_run_root *root;
+    struct rt_run_seq *seq; /* a frame job's state (sequence.c), or NULL */
 };
 
 /* Rank 0's own: the image it gathers and what it does meanwhile. */
@@ -104,9 +105,11 @@ rt_exit_code rt_run_dump_scene(const rt_options *o);
 rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, char *err, size_t errlen);
 /* Every rank: intersector, camera, camera-ray lists. Fails the job itself. */
 void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
-/* Every rank, in a frame job: the renderer's camera, time interval and
- * camera-ray lists of frame `frame` (rt_anim_frame). Fails the job itself. */
-void rt_run_frame_camera(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, uint32_t frame);
+/* Every rank, in a frame job: r = s's renderer with frame `frame`'s camera
+ * and time interval (rt_anim_frame) and its camera-ray lists (into *lists,
+ * whose former lists are freed). A status: any thread may call it. */
+int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
+                          rt_primary **lists);
 /* Every rank: the farm's job (units, threads, the farm's policy). */
 void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
 /* The checkpoint's identity of o's image (of frame o->frame in a frame job). */
@@ -114,6 +117,11 @@ rt_ckpt_id rt_run_ckpt_id(const rt_options *o, const rt_run_setup *s);
 /* Rank 0: the framebuffer, the restored checkpoint, the progress line and
  * the hooks; prints the run's first line. Fails the job itself. */
 void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r);
+/* The hooks every run has (progress line, signal's stop), for r's client. */
+rt_farm_hooks rt_run_hooks(rt_run_root *r);
+/* Rank 0: the run's first line on stderr, after `what` ("" or "frames
+ * ..., "). */
+void rt_run_say_start(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, const char *what);
 
 /* ckpt.c: the checkpoint's life in a run. */
 /* Rank 0: a writable path, there on --resume and not there otherwise; an
@@ -152,6 +160,7 @@ typedef struct rt_run_finish_how {
     rt_run_fault *fault;  /* NULL: a failure ends the job at once */
     int ckpt;             /* this frame may write or remove the checkpoint */
     uint32_t frames_peak; /* frames held on rank 0 at most so far (0: one image) */
+    uint64_t *hash;       /* when not NULL: gets the image hash */
 } rt_run_finish_how;
 /* rt_run_finish without the progress line's end, in any thread when
  * how->fault is given (s read-only, its camera-ray lists from how): 0, or
@@ -163,15 +172,27 @@ int rt_run_finish_frame(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt
  * NULL when out of memory. Free with rt_mem_free. */
 int64_t *rt_run_values(const rt_job *j, rt_layout lay, const int64_t *acc, uint32_t first);
 
-/* sequence.c: a frame job (--frames, --frame): every frame of the range in
- * turn over the same scene, renderer and farm, each handed to rank 0's
- * writer thread as soon as it is done; on --resume, frames whose files exist are skipped and the
- * checkpoint's frame continues. */
+/* A frame job's end on rank 0: the whole range's totals on stdout (the
+ * farm's result of the range, frames rendered and skipped, the peak of
+ * frames held). */
+void rt_run_range_summary(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_farm_result *res,
+                          uint32_t rendered, uint32_t skipped, uint32_t frames_peak);
+/* --done-file: one line, written atomically (a warning when it cannot be). */
+void rt_run_write_done(const char *path, uint64_t hash, int lost, const char *output);
+
+/* sequence.c: a frame job (--frames, --frame): the frames of the range
+ * still to render as one schedule over the same scene, intersector and
+ * farm (units across frames, at most RT_POLICY_FRAMES_IN_FLIGHT frames in
+ * flight), each handed to rank 0's writer thread as soon as its last sums
+ * are in; on --resume, frames whose files exist are skipped and the
+ * checkpoint's frames in flight continue. */
 void rt_run_frames(rt_run *run);
 
 /* writer.c: a frame job's writer thread on rank 0 (rank and s outlive it;
  * s read-only, as rt_run_finish_frame). */
 #define RT_RUN_WRITER_QUEUE 2 /* frames waiting for the writer at most */
+/* Frames rank 0 holds at most: in flight, waiting, being written. */
+#define RT_RUN_FRAMES_HELD (RT_POLICY_FRAMES_IN_FLIGHT + RT_RUN_WRITER_QUEUE + 1)
 typedef struct rt_run_writer rt_run_writer;
 /* Starts the thread; fails the job itself. */
 rt_run_writer *rt_run_writer_start(const rt_run_rank *rank, const rt_run_setup *s);
@@ -184,11 +205,14 @@ void rt_run_writer_hold(rt_run_writer *w);
 void rt_run_writer_put(rt_run_writer *w, const rt_run_cmd *cmd, const rt_options *fo, const rt_frame_paths *paths,
                        rt_run_root *root, rt_run_result *result, int last);
 /* Waits for every queued frame to be written, then ends the thread and
- * frees w; a failed write ends the job here (one line, its exit code). */
-void rt_run_writer_finish(rt_run_writer *w);
+ * frees w; a failed write ends the job here (one line, its exit code).
+ * last_hash: the image hash of the frame handed over with `last`, peak:
+ * the most frames held at once. */
+void rt_run_writer_finish(rt_run_writer *w, uint64_t *last_hash, uint32_t *peak);
 /* A signal stops the job: the file being written is finished, the frames
  * waiting are dropped (rendered again on --resume), w is freed. */
 void rt_run_writer_stop(rt_run_writer *w);
+
 
 /* Frees what a frame's render left (root, res), and zeroes them. */
 void rt_run_release(rt_run_root *r, rt_run_result *res);

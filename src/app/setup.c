@@ -170,16 +170,23 @@ static void lists(const rt_options *o, const rt_farm *f, rt_run_setup *s)
     s->renderer.primary = s->primary;
 }
 
-void rt_run_frame_camera(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s, uint32_t frame)
+int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
+                          rt_primary **lists)
 {
+    *r = s->renderer; /* scene, intersector, job, stop flag: the job's */
+    rt_primary_free(*lists);
+    *lists = NULL;
+    r->primary = NULL;
     rt_camera_desc cam;
     double t0, t1;
     int st = rt_anim_frame(&s->scene, &o->anim, frame, &cam, &t0, &t1);
     if (!st)
-        st = rt_render_frame(&s->renderer, &cam, t0, t1);
-    if (st)
-        rt_farm_fail(&rank->farm, RT_EXIT_USAGE, "frame %u: camera: %s", frame, rt_status_str(st));
-    lists(o, &rank->farm, s);
+        st = rt_render_frame(r, &cam, t0, t1);
+    /* our BVH's camera-ray lists for this frame's camera, as lists() */
+    if (!st && rt_accel_bvh(s->accel) && !r->world &&
+        (st = rt_primary_build(lists, &s->scene, &r->camera, o->job.width, o->job.height)) == RT_OK)
+        r->primary = *lists;
+    return st;
 }
 
 /* ---- hooks: what rank 0 does while the sums come in ---------------------- */
@@ -275,6 +282,11 @@ rt_ckpt_id rt_run_ckpt_id(const rt_options *o, const rt_run_setup *s)
                         .turn_degrees = o->anim.turn_degrees};
 }
 
+rt_farm_hooks rt_run_hooks(rt_run_root *r)
+{
+    return (rt_farm_hooks){.client = &r->client, .progress = on_progress, .stopped = on_stopped};
+}
+
 void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, rt_run_root *r)
 {
     r->ckpt = rt_run_ckpt_id(o, s);
@@ -284,10 +296,7 @@ void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run
     r->progress.passes = (int)o->passes;
     r->progress.pass = 1;
     r->client = (rt_farm_client){.opt = o, .lay = s->renderer.lay, .root = r};
-    r->own = (rt_farm_rank0){.acc = r->acc,
-                             .committed = r->restored,
-                             .trace = o->trace != NULL,
-                             .hooks = {.client = &r->client, .progress = on_progress, .stopped = on_stopped}};
+    r->own = (rt_farm_rank0){.acc = r->acc, .committed = r->restored, .trace = o->trace != NULL, .hooks = rt_run_hooks(r)};
     if (o->passes > 1)
         r->own.hooks.pass = on_pass;
     if (o->checkpoint) {
@@ -296,15 +305,16 @@ void rt_run_root_init(const rt_options *o, const rt_run_rank *rank, const rt_run
     }
     if (o->quiet)
         return;
-    const int ranks = rank->farm.size, threads = rank->threads;
-    char fr[80] = "";
-    if (o->frame_job)
-        snprintf(fr, sizeof fr, "frame %u (%u of %u), ", o->frame, (o->frame - o->frames.first) / o->frames.step + 1,
-                 rt_frames_count(&o->frames));
-    fprintf(stderr, "rt-mpi: %s%ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
-            fr, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, s->scene.n_spheres, ranks,
-            ranks > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
+    rt_run_say_start(o, rank, s, "");
     if (o->resume)
         fprintf(stderr, "rt-mpi: resuming from %s: %.1f%% of the samples already done\n", o->checkpoint,
                 100.0 * (double)r->samples_restored / ((double)o->job.height * o->job.samples));
+}
+
+void rt_run_say_start(const rt_options *o, const rt_run_rank *rank, const rt_run_setup *s, const char *fr)
+{
+    const int ranks = rank->farm.size, threads = rank->threads;
+    fprintf(stderr, "rt-mpi: %s%ux%u, %u spp, depth %u, seed %" PRIu64 ", %u spheres, %d rank%s x %d thread%s\n",
+            fr, o->job.width, o->job.height, o->job.samples, o->job.max_depth, o->job.seed, s->scene.n_spheres, ranks,
+            ranks > 1 ? "s" : "", threads, threads > 1 ? "s" : "");
 }

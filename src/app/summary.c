@@ -236,6 +236,41 @@ static void print_intersector(const rt_options *o, const rt_run_setup *s, const 
     printf("%.0f KiB)\n", (rt_accel_bytes(s->accel) + l->bytes) / 1024.0);
 }
 
+/* What every rank did: memory, rank 0's serving, lost ranks, one line a
+ * rank. */
+static void print_ranks(int ranks, const rt_farm_result *res)
+{
+    double lo = res->ranks[0].maxrss_mb, hi = lo, held = 0;
+    for (int i = 1; i < ranks; i++) {
+        const rt_rank_stats *r = &res->ranks[i];
+        if (r->lost)
+            continue;
+        lo = r->maxrss_mb < lo ? r->maxrss_mb : lo;
+        hi = r->maxrss_mb > hi ? r->maxrss_mb : hi;
+        held = r->held_mb > held ? r->held_mb : held;
+    }
+    printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank", res->ranks[0].maxrss_mb, lo, hi);
+    if (ranks > 1)
+        printf(", at most %.1f MB of sums held by a rank", held);
+    printf("\n");
+    if (ranks > 1)
+        printf("rank 0 served: %" PRIu64 " messages, %.1f MB in, %.3f s CPU; last sums in %.3f s after the last unit\n",
+               res->msgs_in, (double)res->bytes_in / 1e6, res->serve_cpu, res->final_combine);
+    if (res->lost)
+        printf("lost ranks:    %d (their units were rendered again by the others)\n", res->lost);
+    for (int i = 0; i < ranks && ranks > 1; i++) {
+        const rt_rank_stats *r = &res->ranks[i];
+        printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
+               "%.3f M segments/s%s%s",
+               i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0,
+               r->host[0] ? " on " : "", r->host);
+        if (r->lost)
+            printf(" (lost at %.1f s, silent for %.1f s: %u units and %.3f s of its rendering went to the others)",
+                   r->lost_at, r->silent, r->units_redone, r->redone);
+        printf("\n");
+    }
+}
+
 static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *spp)
 {
     const rt_options *o = F->o;
@@ -268,38 +303,12 @@ static void print_summary(const finish *F, uint64_t hash, const rt_spp_stats *sp
     printf("wall time:     %.3f s render, %.3f s total\n", res->wall, rt_now() - F->cmd->t_start);
     printf("ray segments:  %" PRIu64 " (%.3f M/s)\n", res->segments,
            res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
-    double lo = res->ranks[0].maxrss_mb, hi = lo, held = 0;
-    for (int i = 1; i < ranks; i++) {
-        const rt_rank_stats *r = &res->ranks[i];
-        if (r->lost)
-            continue;
-        lo = r->maxrss_mb < lo ? r->maxrss_mb : lo;
-        hi = r->maxrss_mb > hi ? r->maxrss_mb : hi;
-        held = r->held_mb > held ? r->held_mb : held;
-    }
-    printf("peak memory:   %.1f MB on rank 0, %.1f to %.1f MB per rank", res->ranks[0].maxrss_mb, lo, hi);
-    if (ranks > 1)
-        printf(", at most %.1f MB of sums held by a rank", held);
-    printf("\n");
-    if (ranks > 1)
-        printf("rank 0 served: %" PRIu64 " messages, %.1f MB in, %.3f s CPU; last sums in %.3f s after the last unit\n",
-               res->msgs_in, (double)res->bytes_in / 1e6, res->serve_cpu, res->final_combine);
-    if (res->lost)
-        printf("lost ranks:    %d (their units were rendered again by the others)\n", res->lost);
-    for (int i = 0; i < ranks && ranks > 1; i++) {
-        const rt_rank_stats *r = &res->ranks[i];
-        printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "
-               "%.3f M segments/s%s%s",
-               i, r->units, r->rows, r->busy, r->wait, r->comm, r->busy > 0 ? r->segments / r->busy / 1e6 : 0.0,
-               r->host[0] ? " on " : "", r->host);
-        if (r->lost)
-            printf(" (lost at %.1f s, silent for %.1f s: %u units and %.3f s of its rendering went to the others)",
-                   r->lost_at, r->silent, r->units_redone, r->redone);
-        printf("\n");
-    }
+    if (res->ranks) /* a frame of a frame job: the range's summary has them */
+        print_ranks(F->f->size, res);
     if (F->how->frames_peak)
-        printf("frames held:   peak %u on rank 0 (at most %u waiting for the writer thread)\n", F->how->frames_peak,
-               RT_RUN_WRITER_QUEUE);
+        printf("frames held:   peak %u on rank 0 (at most %u in flight, %u waiting for the writer thread, 1 being "
+               "written)\n",
+               F->how->frames_peak, RT_POLICY_FRAMES_IN_FLIGHT, RT_RUN_WRITER_QUEUE);
     printf("image hash:    %016" PRIx64 "\n", hash);
     fflush(stdout);
 }
@@ -348,19 +357,33 @@ static void write_reports(const finish *F, uint64_t hash, const rt_spp_stats *sp
 /* --done-file: the image is written (one line, atomically). A launcher
  * whose tasks died reports the job as failed even when the survivors
  * finished it (srun exits 137); the job script reads this instead. */
-static void write_done(const finish *F, uint64_t hash)
+void rt_run_write_done(const char *path, uint64_t hash, int lost, const char *output)
 {
-    const char *path = F->o->done_file;
     if (!path)
         return;
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
     if (st == RT_OK) {
-        fprintf(f.fp, "done %016" PRIx64 " lost %d %s\n", hash, F->res->lost, F->o->output);
+        fprintf(f.fp, "done %016" PRIx64 " lost %d %s\n", hash, lost, output);
         st = rt_atomic_commit(&f);
     }
     if (st)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", path, rt_status_str(st));
+}
+
+void rt_run_range_summary(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_farm_result *res,
+                          uint32_t rendered, uint32_t skipped, uint32_t frames_peak)
+{
+    printf("range:         %u frame%s rendered, %u skipped (written before), %u units, %.3f s render, %.3f s total\n",
+           rendered, rendered == 1 ? "" : "s", skipped, res->units, res->wall, rt_now() - cmd->t_start);
+    printf("range segments: %" PRIu64 " (%.3f M/s)\n", res->segments,
+           res->wall > 0 ? (double)res->segments / res->wall / 1e6 : 0.0);
+    if (res->ranks)
+        print_ranks(rank->farm.size, res);
+    printf("frames held:   peak %u on rank 0 over the range (at most %u in flight, %u waiting for the writer thread, "
+           "1 being written)\n",
+           frames_peak, RT_POLICY_FRAMES_IN_FLIGHT, RT_RUN_WRITER_QUEUE);
+    fflush(stdout);
 }
 
 int rt_run_finish_frame(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt_run_setup *s, const rt_run_root *r,
@@ -393,7 +416,9 @@ int rt_run_finish_frame(const rt_run_cmd *cmd, const rt_run_rank *rank, const rt
         spp_tally(&spp, r->acc, npix, lay, j->samples);
     print_summary(&F, hash, lay.count ? &spp : NULL);
     write_reports(&F, hash, lay.count ? &spp : NULL);
-    write_done(&F, hash);
+    rt_run_write_done(F.o->done_file, hash, F.res->lost, F.o->output);
+    if (how->hash)
+        *how->hash = hash;
     return 0;
 }
 

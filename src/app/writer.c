@@ -1,16 +1,19 @@
-/* writer.c - rank 0's writer thread in a frame job (issue 37). After a
- * frame's render the main thread hands the frame over (its options, its
- * framebuffer of sums and its farm result, moved, not copied) and serves
- * the next frame's units at once; this thread converts the sums, writes the
- * files (the same writers as one image: temp + rename) and prints the
- * frame's summary and --stats, in frame order. It never calls MPI (the farm
+/* writer.c - rank 0's writer thread in a frame job (issue 37). When a
+ * frame's last sums are in, the main thread hands the frame over (its
+ * options, its framebuffer of sums and its stats, moved, not copied) and
+ * serves on at once; this thread converts the sums, writes the files (the
+ * same writers as one image: temp + rename) and prints the frame's summary
+ * and --stats, in the order the frames were handed over. It never calls MPI (the farm
  * runs MPI_THREAD_FUNNELED): a failed write is kept and the main thread
  * ends the job with it, at the next hand-over or at the end.
  *
- * The checkpoint stays the main thread's: only the job's last frame (when
- * nothing renders any more) may write or remove it. A frame whose file is
- * not written yet when the job stops is simply rendered again on --resume
- * (files decide: sequence.c skips the frames whose files exist). */
+ * The checkpoint is the main thread's (the frames in flight, sequence.c):
+ * the writer never writes or removes it. A frame whose file is not written
+ * yet when the job stops is simply rendered again on --resume (files
+ * decide: sequence.c skips the frames whose files exist). When the main
+ * thread ends the job with a failure (rt_farm_fail), the writer is joined
+ * first (rt_farm_on_fail): the file being written is finished, no temp
+ * file is left behind. */
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +44,7 @@ struct rt_run_writer {
     uint32_t held, peak;   /* framebuffers on rank 0: now, at most */
     int failed;
     rt_run_fault fault;
+    uint64_t last_hash; /* of the frame handed over with `last` */
 };
 
 static void item_free(item *it)
@@ -62,7 +66,8 @@ static void *writer_main(void *arg)
         memmove(w->queue, w->queue + 1, --w->waiting * sizeof *w->queue);
         pthread_cond_broadcast(&w->cv); /* a place in the queue */
         rt_run_fault fault;
-        const rt_run_finish_how how = {.lists = it->lists, .fault = &fault, .ckpt = it->last, .frames_peak = w->peak};
+        const rt_run_finish_how how = {
+            .lists = it->lists, .fault = &fault, .frames_peak = w->peak, .hash = it->last ? &w->last_hash : NULL};
         const int failed = w->failed;
         pthread_mutex_unlock(&w->mu);
         /* after a failed write, the later frames are dropped (not written) */
@@ -80,6 +85,16 @@ static void *writer_main(void *arg)
     return NULL;
 }
 
+static void end(rt_run_writer *w, int drop);
+
+/* rt_farm_fail from the main thread: the file being written is finished,
+ * the waiting frames dropped, quietly (the failure has its line). */
+static void abandon(void *arg)
+{
+    end(arg, 1);
+    free(arg);
+}
+
 rt_run_writer *rt_run_writer_start(const rt_run_rank *rank, const rt_run_setup *s)
 {
     rt_run_writer *w = calloc(1, sizeof *w);
@@ -91,8 +106,10 @@ rt_run_writer *rt_run_writer_start(const rt_run_rank *rank, const rt_run_setup *
     if (pthread_mutex_init(&w->mu, NULL) || pthread_cond_init(&w->cv, NULL) ||
         pthread_create(&w->thread, NULL, writer_main, w))
         rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "cannot start the writer thread");
+    rt_farm_on_fail(abandon, w);
     return w;
 }
+
 
 void rt_run_writer_hold(rt_run_writer *w)
 {
@@ -130,10 +147,11 @@ void rt_run_writer_put(rt_run_writer *w, const rt_run_cmd *cmd, const rt_options
     memset(root, 0, sizeof *root);
     memset(result, 0, sizeof *result);
     pthread_mutex_lock(&w->mu);
-    /* Full (RT_RUN_WRITER_QUEUE frames waiting): rank 0 waits here for the
-     * writer, and the other ranks for the next frame's units. This bounds
-     * rank 0's memory to the queue, the frame being written and the one
-     * rendering. */
+    /* Full (RT_RUN_WRITER_QUEUE frames waiting): rank 0's main thread waits
+     * here for the writer, and the frame it hands over still counts in the
+     * farm's cap meanwhile (it is released after this returns). This
+     * bounds rank 0's memory to RT_RUN_FRAMES_HELD frames: the cap's, the
+     * queue and the frame being written. */
     while (w->waiting == RT_RUN_WRITER_QUEUE && !w->failed)
         pthread_cond_wait(&w->cv, &w->mu);
     if (!w->failed) {
@@ -150,6 +168,7 @@ void rt_run_writer_put(rt_run_writer *w, const rt_run_cmd *cmd, const rt_options
 
 static void end(rt_run_writer *w, int drop)
 {
+    rt_farm_on_fail(NULL, NULL);
     pthread_mutex_lock(&w->mu);
     w->closing = 1;
     w->dropping = drop;
@@ -162,10 +181,17 @@ static void end(rt_run_writer *w, int drop)
     pthread_mutex_destroy(&w->mu);
 }
 
-void rt_run_writer_finish(rt_run_writer *w)
+void rt_run_writer_finish(rt_run_writer *w, uint64_t *last_hash, uint32_t *peak)
 {
     end(w, 0);
-    check_failed(w);
+    *last_hash = w->last_hash;
+    *peak = w->peak;
+    if (w->failed) {
+        const rt_run_fault fault = w->fault;
+        const rt_farm *f = &w->rank->farm;
+        free(w);
+        rt_farm_fail(f, fault.code, "%s", fault.msg);
+    }
     free(w);
 }
 

@@ -139,6 +139,14 @@ typedef struct rt_render_source {
     int (*take)(void *ctx, rt_unit *u);
     void (*done)(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments);
     int (*poll)(void *ctx, int idle);
+    /* When not NULL, each unit is rendered by its own renderer (a frame
+     * job's frame: its camera and shutter): the renderer of u into *r and
+     * the row of *r's image that u->y0 is into *y0, called once per unit
+     * by the thread that took it, right after take and under the same
+     * lock; a status (non-zero ends the stream with it). Then r of
+     * rt_render_stream only says how many values a pixel has and when to
+     * stop. */
+    int (*renderer)(void *ctx, const rt_unit *u, const rt_renderer **r, uint32_t *y0);
     void *ctx;
 } rt_render_source;
 

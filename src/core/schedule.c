@@ -35,18 +35,28 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
     s->height = job->height;
     s->samples = job->samples;
     s->passes = p->passes < 1 ? 1 : p->passes > job->samples ? job->samples : p->passes;
+    s->frame_rows = p->frame_rows && job->height % p->frame_rows == 0 ? p->frame_rows : 0;
+    s->frames = s->frame_rows ? job->height / s->frame_rows : 1;
+    s->cap = s->frame_rows ? p->frames_cap : 0;
     s->committed = calloc(job->height, sizeof *s->committed);
-    if (!s->committed)
+    s->frame_done = calloc(s->frames, sizeof *s->frame_done);
+    s->released = calloc(s->frames, sizeof *s->released);
+    if (!s->committed || !s->frame_done || !s->released) {
+        rt_sched_free(s);
         return RT_ENOMEM;
+    }
     uint32_t todo = 0;
     for (uint32_t y = 0; y < job->height; y++) {
         uint32_t c = committed ? committed[y] : 0;
         s->committed[y] = c < job->samples ? c : job->samples;
-        if (s->committed[y] == job->samples)
+        if (s->committed[y] == job->samples) {
             s->rows_done++;
-        else
+            s->frame_done[rt_sched_frame(s, y)]++;
+        } else {
             todo++;
+        }
     }
+
     uint32_t max_band = p->band ? p->band : (p->max_band ? p->max_band : 16);
     uint64_t want = (uint64_t)p->ranks * (p->units_per_rank ? p->units_per_rank : 8);
     uint32_t min_s = p->min_samples ? p->min_samples : 1;
@@ -86,8 +96,10 @@ int rt_sched_init(rt_sched *s, const rt_job *job, const rt_sched_params *p, cons
             uint64_t g = (uint64_t)remaining / (2 * want / ((uint64_t)splits * tiles) + 1);
             rows = g < 1 ? 1 : g > max_band ? max_band : (uint32_t)g;
         }
+        /* a band ends at its frame's last row */
+        const uint32_t end = s->frame_rows ? (y / s->frame_rows + 1) * s->frame_rows : job->height;
         uint32_t y1 = y;
-        while (y1 < job->height && y1 - y < rows && s->committed[y1] == c)
+        while (y1 < end && y1 - y < rows && s->committed[y1] == c)
             y1++;
         if ((st = rt_array_reserve((void **)&bands, &capb, (size_t)nb + 1, sizeof *bands)) != RT_OK)
             break;
@@ -126,6 +138,8 @@ void rt_sched_free(rt_sched *s)
 {
     free(s->units);
     free(s->committed);
+    free(s->frame_done);
+    free(s->released);
     memset(s, 0, sizeof *s);
 }
 
@@ -150,7 +164,28 @@ uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u)
             completed++;
     }
     s->rows_done += completed;
+    s->frame_done[rt_sched_frame(s, u->y0)] += completed; /* u never crosses a frame */
+
     return completed;
+}
+
+int rt_sched_ready(const rt_sched *s, const rt_unit *u)
+{
+    return !s->cap || rt_sched_frame(s, u->y0) < s->low + s->cap;
+}
+
+void rt_sched_release(rt_sched *s, uint32_t k)
+{
+    if (k >= s->frames || !rt_sched_frame_complete(s, k))
+        return;
+    s->released[k] = 1;
+    while (s->low < s->frames && s->released[s->low])
+        s->low++;
+}
+
+int rt_sched_frame_complete(const rt_sched *s, uint32_t k)
+{
+    return k < s->frames && s->frame_done[k] == (s->frame_rows ? s->frame_rows : s->height);
 }
 
 uint32_t rt_sched_min_committed(const rt_sched *s)

@@ -50,6 +50,14 @@ typedef struct rt_sched_params {
     uint32_t passes;         /* progressive passes over the image (>= 1) */
     uint32_t min_cols;       /* narrowest column tile (0: 16) */
     int split;               /* RT_SPLIT_COLUMNS (tiles, the default) or RT_SPLIT_SAMPLES */
+    /* A frame job (issue 37): the job's rows are its frames' rows one
+     * after another, frame_rows each (global row y is row y % frame_rows
+     * of frame y / frame_rows); no unit crosses a frame, and a unit of
+     * frame k is ready (rt_sched_ready) only while every frame before
+     * k - frames_cap + 1 is released (complete and its sums handed on,
+     * rt_sched_release), so at most frames_cap frames have units out or
+     * sums held. 0: one image / no cap. */
+    uint32_t frame_rows, frames_cap;
 } rt_sched_params;
 
 typedef struct rt_sched {
@@ -58,6 +66,12 @@ typedef struct rt_sched {
     uint32_t *committed; /* per row: samples [0, committed) are summed */
     uint32_t width, height, samples, passes;
     uint32_t rows_done;  /* rows with every sample committed */
+    /* a frame job (rt_sched_params): rows per frame, frames, the cap, rows
+     * complete per frame, which are released, and the first not released */
+    uint32_t frame_rows, frames, cap;
+    uint32_t *frame_done;
+    uint8_t *released;
+    uint32_t low;
 } rt_sched;
 
 /* Plans units for every sample not already committed (committed may be NULL:
@@ -76,6 +90,15 @@ int rt_sched_can_commit(const rt_sched *s, const rt_unit *u);
 uint32_t rt_sched_commit(rt_sched *s, const rt_unit *u);
 /* Samples committed in every row (the image is complete up to this). */
 uint32_t rt_sched_min_committed(const rt_sched *s);
+/* The frame of global row y (0 for one image). */
+static inline uint32_t rt_sched_frame(const rt_sched *s, uint32_t y) { return s->frame_rows ? y / s->frame_rows : 0; }
+/* 1 when u may be handed out now: its frame is within the cap of the first
+ * frame not released (always for one image or no cap). */
+int rt_sched_ready(const rt_sched *s, const rt_unit *u);
+/* Complete frame k's sums are handed on: it no longer counts in the cap. */
+void rt_sched_release(rt_sched *s, uint32_t k);
+/* 1 when every row of frame k has every sample. */
+int rt_sched_frame_complete(const rt_sched *s, uint32_t k);
 /* End of progressive pass k (sample count), for k in [0, passes). */
 uint32_t rt_sched_pass_end(const rt_sched *s, uint32_t k);
 

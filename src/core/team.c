@@ -27,6 +27,9 @@ static inline int omp_thread(void)
 
 typedef struct stream_unit {
     rt_unit u;
+    const rt_renderer *r; /* its renderer (the stream's, or the source's for it) */
+    rt_dispatch_fn fn;
+    uint32_t y0;          /* u->y0 in r's image */
     int64_t *buf;
     size_t cap;                 /* entries of buf */
     long npix, next, left;      /* pixels: in all, next to give out, not yet rendered */
@@ -82,6 +85,17 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
                 empty->cap = need;
             }
             empty->u = u;
+            empty->r = st->r;
+            empty->fn = st->fn;
+            empty->y0 = u.y0;
+            if (st->src->renderer) {
+                int rs = st->src->renderer(st->src->ctx, &u, &empty->r, &empty->y0);
+                if (rs) {
+                    st->status = rs;
+                    return NULL;
+                }
+                empty->fn = rt_dispatch_pick(empty->r);
+            }
             empty->npix = empty->left = (long)rt_unit_pixels(&u);
             empty->next = 0;
             empty->segments = 0;
@@ -127,7 +141,8 @@ static void stream_thread(stream *st)
         pthread_mutex_unlock(&st->mu);
         uint64_t segs = 0;
         for (long i = a; i < b && !rt_dispatch_stopped(r); i++) {
-            segs += rt_dispatch_block_pixel(r, st->fn, su->u.x0, su->u.x1 - su->u.x0, su->u.y0, su->u.s0, su->u.s1, i, su->buf);
+            segs += rt_dispatch_block_pixel(su->r, su->fn, su->u.x0, su->u.x1 - su->u.x0, su->y0, su->u.s0, su->u.s1,
+                                            i, su->buf);
             /* the master polls after every pixel (the source decides how
              * often to really look), and so right after a unit is done:
              * its next pixel, or its idle poll in stream_claim */

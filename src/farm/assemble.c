@@ -5,7 +5,14 @@
 #include <string.h>
 
 #include "array.h"
+#include "mem.h"
 #include "status.h"
+
+struct rt_frame_acct {
+    uint64_t segments;
+    uint32_t units;
+    double first;
+};
 
 struct rt_pending {
     rt_unit unit; /* the block's rows, columns and samples */
@@ -54,8 +61,85 @@ void rt_assembly_free(rt_assembly *a)
     free(a->stats);
     free(a->unit_secs);
     free(a->trace);
+    for (uint32_t k = 0; a->facc && k < a->sched.frames; k++)
+        rt_mem_free(a->facc[k], rt_assembly_frame_bytes(a));
+    free(a->facc);
+    free(a->fst);
+    free(a->ready);
     rt_sched_free(&a->sched);
     memset(a, 0, sizeof *a);
+}
+
+size_t rt_assembly_frame_bytes(const rt_assembly *a)
+{
+    return (size_t)a->sched.frame_rows * a->row * sizeof(int64_t);
+}
+
+/* Frame k is complete: ready for rt_assembly_next_frame. */
+static void frame_ready(rt_assembly *a, uint32_t k) { a->ready[a->n_ready++] = k; }
+
+int rt_assembly_frames(rt_assembly *a, int64_t **restored)
+{
+    const uint32_t F = a->sched.frames;
+    a->facc = calloc(F, sizeof *a->facc);
+    a->fst = calloc(F, sizeof *a->fst);
+    a->ready = calloc(F, sizeof *a->ready);
+    if (!a->facc || !a->fst || !a->ready)
+        return RT_ENOMEM;
+    for (uint32_t k = 0; restored && k < F; k++) {
+        if (!(a->facc[k] = restored[k]))
+            continue;
+        restored[k] = NULL;
+        a->in_flight++;
+        if (rt_sched_frame_complete(&a->sched, k))
+            frame_ready(a, k);
+    }
+    a->in_flight_peak = a->in_flight;
+    return RT_OK;
+}
+
+int rt_assembly_open(rt_assembly *a, const rt_unit *u, double now)
+{
+    const uint32_t k = rt_sched_frame(&a->sched, u->y0);
+    if (!a->facc || a->facc[k])
+        return RT_OK;
+    if (!(a->facc[k] = rt_mem_zeroed(rt_assembly_frame_bytes(a))))
+        return RT_ENOMEM;
+    a->fst[k].first = now;
+    if (++a->in_flight > a->in_flight_peak)
+        a->in_flight_peak = a->in_flight;
+    return RT_OK;
+}
+
+int rt_assembly_next_frame(rt_assembly *a, rt_farm_frame *f, double now)
+{
+    if (!a->n_ready)
+        return 0;
+    const uint32_t k = a->ready[0];
+    memmove(a->ready, a->ready + 1, --a->n_ready * sizeof *a->ready);
+    *f = (rt_farm_frame){.index = k, .acc = a->facc[k], .acc_bytes = rt_assembly_frame_bytes(a),
+                         .segments = a->fst[k].segments, .units = a->fst[k].units, .first = a->fst[k].first,
+                         .last = now, .in_flight = a->in_flight};
+    a->facc[k] = NULL;
+    a->in_flight--;
+    size_t n = 0;
+    for (size_t i = 0; i < a->n_trace; i++)
+        n += rt_sched_frame(&a->sched, a->trace[i].unit.y0) == k;
+    /* out of memory for the copy: the frame's trace misses its events */
+    if (n && (f->trace = malloc(n * sizeof *f->trace)))
+        for (size_t i = 0; i < a->n_trace; i++)
+            if (rt_sched_frame(&a->sched, a->trace[i].unit.y0) == k)
+                f->trace[f->n_trace++] = a->trace[i];
+    return 1;
+}
+
+/* Where row y's sums go: the image's, or (a frame job) its frame's. */
+static int64_t *row_at(const rt_assembly *a, uint32_t y)
+{
+    if (!a->facc)
+        return a->acc + (size_t)y * a->row;
+    const uint32_t H = a->sched.frame_rows;
+    return a->facc[y / H] + (size_t)(y % H) * a->row;
 }
 
 size_t rt_assembly_len(const rt_assembly *a) { return (size_t)a->sched.height * a->row; }
@@ -79,11 +163,14 @@ static void commit(rt_assembly *a, const rt_unit *u, const int64_t *sums, uint32
 {
     size_t n = unit_len(a, u);
     a->units_in += n_units;
-    int64_t *dst = a->acc + (size_t)u->y0 * a->row;
+    int64_t *dst = row_at(a, u->y0); /* u never crosses a frame */
     for (size_t i = 0; i < n; i++)
         dst[i] += sums[i];
     rt_sched_commit(&a->sched, u);
     a->dirty = 1;
+    const uint32_t k = rt_sched_frame(&a->sched, u->y0);
+    if (a->facc && rt_sched_frame_complete(&a->sched, k))
+        frame_ready(a, k);
     /* A progressive pass is complete when every row has its samples (an
      * O(height) scan, so only in progressive runs). */
     const rt_sched *sc = &a->sched;
@@ -177,6 +264,11 @@ void rt_assembly_account(rt_assembly *a, int rank, const rt_unit *u, uint64_t se
     a->segments += segs;
     if (u->id < a->sched.n_units)
         a->unit_secs[u->id] = end - start;
+    if (a->fst) {
+        struct rt_frame_acct *fa = &a->fst[rt_sched_frame(&a->sched, u->y0)];
+        fa->segments += segs;
+        fa->units++;
+    }
     if (rank >= 0 && rank < a->ranks)
         rt_rank_stats_add(&a->stats[rank], u, a->sched.width, a->sched.samples, segs, start, end);
     /* Out of memory for the trace: it misses events, the render goes on. */

@@ -35,6 +35,14 @@ typedef struct rt_assembly {
     uint32_t passes_done; /* progressive passes complete */
     int pass_ready;       /* a pass completed since the flag was cleared */
     int dirty;            /* samples committed since the flag was cleared */
+    /* A frame job (sched.frame_rows > 0, acc NULL): each frame's sums from
+     * its first unit handed out (rt_assembly_open) until it is complete and
+     * taken (rt_assembly_next_frame); at most sched.cap of them at once. */
+    int64_t **facc;          /* per frame, or NULL */
+    struct rt_frame_acct *fst; /* per frame: segments, units, first unit out */
+    uint32_t *ready;         /* complete frames not yet taken, oldest first */
+    uint32_t n_ready;
+    uint32_t in_flight, in_flight_peak; /* frames with sums here */
 } rt_assembly;
 
 /* Plans the units (rt_sched_init) and sets up the accounting for `ranks`
@@ -58,6 +66,20 @@ int rt_assembly_sums(rt_assembly *a, const rt_unit *block, const int64_t *sums, 
 /* Both, for one unit (rank 0's own units). */
 int rt_assembly_add(rt_assembly *a, int rank, const rt_unit *u, const int64_t *sums, uint64_t segs, double start,
                     double end);
+
+/* A frame job: sets up the frames' sums; restored (one per frame, NULL
+ * when none, or NULL for no frame restored): the restored frames' sums,
+ * taken over (the frames already complete are ready at once). */
+int rt_assembly_frames(rt_assembly *a, int64_t **restored);
+/* A frame job: u is handed out at `now` (seconds): its frame's sums exist
+ * from now on. RT_ENOMEM. */
+int rt_assembly_open(rt_assembly *a, const rt_unit *u, double now);
+/* A frame job: the oldest complete frame not yet taken: its sums (now the
+ * caller's, with its stats and, when tracing, a copy of its units' events)
+ * into *f at `now`; 1, or 0 when none is ready. */
+int rt_assembly_next_frame(rt_assembly *a, rt_farm_frame *f, double now);
+/* A frame's sums in bytes. */
+size_t rt_assembly_frame_bytes(const rt_assembly *a);
 
 /* Every unit is in the image. */
 int rt_assembly_complete(const rt_assembly *a);

@@ -22,8 +22,15 @@
 #include <stdint.h>
 
 #include "exitcode.h"
+#include "policy.h"
 #include "render.h"
 #include "schedule.h"
+
+/* Slots of a rank's ring of frame renderers: a slot is rebuilt for frame k
+ * only once every unit of frame k - RT_FARM_RING on the rank is done, which
+ * the cap guarantees (a unit of k is handed out only when frames before
+ * k - cap + 1 are complete) and units.c checks. */
+#define RT_FARM_RING (RT_POLICY_FRAMES_IN_FLIGHT + 2)
 
 
 typedef struct rt_farm {
@@ -57,6 +64,29 @@ typedef struct rt_trace_event {
     double start, end; /* seconds since the render started */
 } rt_trace_event;
 
+/* A frame job's frame whose last sums are in (rt_farm_hooks.frame). */
+typedef struct rt_farm_frame {
+    uint32_t index;      /* among the job's frames (0-based) */
+    int64_t *acc;        /* its sums, laid out as one image's; the hook's
+                          * (free with rt_mem_free(acc, acc_bytes)) */
+    size_t acc_bytes;
+    uint64_t segments;   /* of its units */
+    uint32_t units;
+    double first, last;  /* seconds from the render's start: its first unit
+                          * handed out, its last sums in */
+    rt_trace_event *trace; /* its units' events when tracing (the hook's: free) */
+    size_t n_trace;
+    uint32_t in_flight;  /* frames with sums on rank 0 (this one included) */
+} rt_farm_frame;
+
+/* A consistent copy of a frame job's frames in flight, for the checkpoint. */
+typedef struct rt_farm_frames {
+    uint32_t n;                /* frames in flight (incomplete, with sums) */
+    const uint32_t *index;     /* theirs, ascending */
+    const uint32_t *committed; /* n x height counts: each frame's rows */
+    int64_t *const *acc;       /* n frames of sums */
+} rt_farm_frames;
+
 /* The run's side of the hooks, defined by the program that runs the farm:
  * what the hooks read of the run and the state they update. The farm never
  * looks inside; it hands the pointer back to each hook. */
@@ -81,10 +111,30 @@ typedef struct rt_farm_hooks {
     /* A signal stopped the render, after the last save (saved: it
      * succeeded); the farm then ends the job with RT_EXIT_INTERRUPTED. */
     void (*stopped)(rt_farm_client *c, int sig, int saved, uint32_t rows_done, uint32_t rows);
+    /* A frame job (job.frames > 0), instead of save: saves the frames in
+     * flight. A status, as save's. */
+    int (*save_frames)(rt_farm_client *c, const rt_farm_frames *fr);
+    /* A frame job: frame f->index is complete; its sums are the hook's. In
+     * frame order of completion, from rank 0's main thread. */
+    void (*frame)(rt_farm_client *c, rt_farm_frame *f);
+    /* A frame job: a frame's sums were allocated (its first unit is handed
+     * out). Called under the farm's lock from either of rank 0's threads:
+     * it must only count. */
+    void (*frame_open)(rt_farm_client *c, uint32_t index);
 } rt_farm_hooks;
 
 typedef struct rt_farm_job {
-    const rt_renderer *renderer; /* its job says what to render */
+    const rt_renderer *renderer; /* its job says what to render (a frame job: a frame's size) */
+    /* A frame job (issue 37): frames > 0 frames of renderer's size, one
+     * schedule of frames x height rows (schedule.h's frame_rows), at most
+     * RT_POLICY_FRAMES_IN_FLIGHT frames with units out. Each rank renders a
+     * unit of frame index k with frame_renderer(frame_ctx, slot, k, &r): the
+     * renderer of frame k, built into slot `slot` of RT_FARM_RING (the
+     * caller's: what it held before is no longer in use), called by the
+     * thread that takes the unit. 0: one image, renderer renders it all. */
+    uint32_t frames;
+    int (*frame_renderer)(void *ctx, uint32_t slot, uint32_t index, const rt_renderer **r);
+    void *frame_ctx;
     rt_sched_params sched;
     int threads;          /* OpenMP threads of this rank */
     int prefetch;         /* units a worker keeps in flight */
@@ -104,8 +154,10 @@ typedef struct rt_farm_job {
 /* What only rank 0 has: the image it gathers into and what it calls while
  * the sums come in. */
 typedef struct rt_farm_rank0 {
-    int64_t *acc;              /* width*height*3 sums, preloaded on resume */
-    const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL */
+    int64_t *acc;              /* width*height*ch sums, preloaded on resume (a frame job: NULL) */
+    const uint32_t *committed; /* samples per row restored from a checkpoint, or NULL
+                                * (a frame job: frames x height counts) */
+    int64_t **frame_acc;       /* a frame job: per frame, its restored sums or NULL (taken over) */
     int trace;                 /* record one event per unit */
     rt_farm_hooks hooks;
 } rt_farm_rank0;
@@ -135,6 +187,12 @@ void rt_farm_finalize(rt_farm *f);
 const char *rt_farm_mpi_version(void);
 /* Prints "rt-mpi: error: [rank N: ]msg" and ends every rank with code. */
 void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...) __attribute__((noreturn, format(printf, 3, 4)));
+/* fn(ctx) runs once at the start of rt_farm_fail on this process (after
+ * the message is formatted, before it is printed): rank 0's frame job
+ * joins its writer thread there, so that no file is left half written.
+ * NULL clears it. Set and cleared by the thread that may call
+ * rt_farm_fail while it is set. */
+void rt_farm_on_fail(void (*fn)(void *), void *ctx);
 /* Ends the whole job with code, without a message. */
 void rt_farm_exit(const rt_farm *f, rt_exit_code code) __attribute__((noreturn));
 
@@ -165,8 +223,10 @@ int rt_farm_bind_threads(const rt_farm *f, int threads);
 /* The flag the signal handlers set; give it to rt_renderer.stop. */
 const volatile sig_atomic_t *rt_farm_stop_flag(void);
 
-/* Renders the whole image. Collective: every rank gives the same job, rank
- * 0 its own part too (the other ranks' own is not read: NULL). Returns
+/* Renders the whole image (a frame job: all its frames, each handed to
+ * hooks.frame as soon as it is complete, res the whole range's).
+ * Collective: every rank gives the same job, rank 0 its own part too (the
+ * other ranks' own is not read: NULL). Returns
  * only when every sum is in (res filled): a failure ends the job here with
  * RT_EXIT_RUNTIME, and on SIGTERM, SIGINT or SIGUSR1 rank 0 saves
  * (hooks.save), calls hooks.stopped and the job ends with

@@ -55,17 +55,25 @@ void rt_root_fail(rt_root *R, int status);
 /* The render is over: the per-rank stats (rank 0's peak memory and host
  * name filled in here), trace and segments move into res. */
 void rt_root_finish(rt_root *R, rt_farm_result *res);
-/* The next unit for rank (0 when none is left to hand out, or stopping). */
+/* The next unit for rank: 1; 0 when none is left to hand out (or
+ * stopping); -1 when none is ready yet (a frame job's cap: serve again
+ * when a frame completes, rt_root_tick). */
 int rt_root_take(rt_root *R, int rank, rt_unit *u);
 /* Main thread: saves now (hooks.save); whether it did. */
 int rt_root_save_now(rt_root *R);
-/* Main thread: progress, previews and periodic saves, as due. */
-void rt_root_tick(rt_root *R);
+/* Main thread: complete frames (hooks.frame), progress, previews and
+ * periodic saves, as due; how many frames completed (units of later
+ * frames may be ready now). */
+uint32_t rt_root_tick(rt_root *R);
 /* A status: rendering on rank 0 failed; *complete: every unit is in. */
 int rt_root_error(rt_root *R, int *complete);
 /* Units rank is assigned (not yet reported done) / done but still holds. */
 uint32_t rt_root_assigned(rt_root *R, int rank);
 uint32_t rt_root_held(rt_root *R, int rank);
+/* A frame job: every unit of frame k is reported done. */
+int rt_root_frame_done(rt_root *R, uint32_t k);
+/* A frame job: most frames with sums on rank 0 at once so far. */
+uint32_t rt_root_frames_peak(rt_root *R);
 /* Whether pass is done and another pass follows it. */
 int rt_root_pass_done(rt_root *R, uint32_t pass);
 /* rank is lost at now (last heard from at heard): its units go back to

@@ -26,7 +26,11 @@ int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks)
     L->assigned = calloc(r, sizeof *L->assigned);
     L->held = calloc(r, sizeof *L->held);
     L->pass_left = calloc(L->passes ? L->passes : 1, sizeof *L->pass_left);
-    if (!L->state || !L->owner || !L->pass || !L->assigned || !L->held || !L->pass_left) {
+    L->frames = s->frames ? s->frames : 1;
+    L->frame_left = calloc(L->frames, sizeof *L->frame_left);
+    L->frame = calloc(n, sizeof *L->frame);
+    if (!L->state || !L->owner || !L->pass || !L->assigned || !L->held || !L->pass_left || !L->frame_left ||
+        !L->frame) {
         rt_ledger_free(L);
         return RT_ENOMEM;
     }
@@ -57,6 +61,8 @@ int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks)
             k++;
         L->pass[i] = k;
         L->pass_left[k]++;
+        L->frame[i] = rt_sched_frame(s, u->y0);
+        L->frame_left[L->frame[i]]++;
     }
     return RT_OK;
 }
@@ -70,6 +76,8 @@ void rt_ledger_free(rt_ledger *L)
     free(L->assigned);
     free(L->held);
     free(L->pass_left);
+    free(L->frame_left);
+    free(L->frame);
     free(L->gfirst);
     free(L->glen);
     free(L->gnext);
@@ -82,19 +90,22 @@ int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u)
     if (L->n_requeue) {
         *u = s->units[L->requeue[--L->n_requeue]];
     } else {
+        /* a group's next unit, when ready (a frame job's cap) */
+#define READY(g) rt_sched_ready(s, &s->units[L->gfirst[g] + L->gnext[g]])
         int32_t g = L->cur[rank];
-        if (g < 0 || L->gnext[g] == L->glen[g]) {
+        if (g < 0 || L->gnext[g] == L->glen[g] || !READY(g)) {
             while (L->fresh < L->n_groups && L->gnext[L->fresh] > 0)
                 L->fresh++;
             while (L->any < L->n_groups && L->gnext[L->any] == L->glen[L->any])
                 L->any++;
-            if (L->fresh < L->n_groups)
+            if (L->fresh < L->n_groups && READY(L->fresh))
                 g = (int32_t)L->fresh;
-            else if (L->any < L->n_groups)
+            else if (L->any < L->n_groups && READY(L->any))
                 g = (int32_t)L->any;
             else
-                return 0;
+                return L->fresh < L->n_groups || L->any < L->n_groups ? -1 : 0;
         }
+#undef READY
         *u = s->units[L->gfirst[g] + L->gnext[g]++];
         L->cur[rank] = g;
     }
@@ -112,6 +123,7 @@ int rt_ledger_done(rt_ledger *L, int rank, uint32_t id)
     L->assigned[rank]--;
     L->held[rank]++;
     L->pass_left[L->pass[id]]--;
+    L->frame_left[L->frame[id]]--;
     return 1;
 }
 
@@ -139,8 +151,10 @@ uint32_t rt_ledger_lose(rt_ledger *L, int rank)
     for (uint32_t i = 0; i < L->n; i++) {
         if (L->owner[i] != rank || (L->state[i] != RT_UNIT_ASSIGNED && L->state[i] != RT_UNIT_DONE))
             continue;
-        if (L->state[i] == RT_UNIT_DONE)
+        if (L->state[i] == RT_UNIT_DONE) {
             L->pass_left[L->pass[i]]++;
+            L->frame_left[L->frame[i]]++;
+        }
         if (rt_array_reserve((void **)&L->requeue, &L->cap_requeue, L->n_requeue + 1, sizeof *L->requeue))
             return back; /* out of memory: the job cannot finish; the caller sees units left */
         L->state[i] = RT_UNIT_QUEUED;
@@ -155,3 +169,5 @@ uint32_t rt_ledger_lose(rt_ledger *L, int rank)
 }
 
 int rt_ledger_pass_done(const rt_ledger *L, uint32_t k) { return k < L->passes && L->pass_left[k] == 0; }
+
+int rt_ledger_frame_done(const rt_ledger *L, uint32_t k) { return k < L->frames && L->frame_left[k] == 0; }

@@ -32,6 +32,9 @@ typedef struct rt_ledger {
     uint32_t *held;     /* per rank: done, sums not yet in */
     uint32_t passes;
     uint32_t *pass_left; /* per pass: units not yet done */
+    uint32_t frames;      /* a frame job's frames (1 for one image) */
+    uint32_t *frame_left; /* per frame: units not yet done */
+    uint32_t *frame;      /* frame per unit */
     /* groups (units gfirst[g] .. + glen[g] in schedule order), how many of
      * each are handed out, the first group perhaps untouched, the first
      * perhaps with units left, and each rank's last group (-1: none) */
@@ -45,7 +48,9 @@ int rt_ledger_init(rt_ledger *L, const rt_sched *s, int ranks);
 void rt_ledger_free(rt_ledger *L);
 
 /* The next unit for rank: a requeued one, else a new one by affinity
- * (above). 0 when there is none. */
+ * (above). 1; 0 when there is none left; -1 when the units left are not
+ * ready yet (a frame job's cap, rt_sched_ready: they are once an earlier
+ * frame completes). */
 int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u);
 /* rank reports unit id done: 1, or 0 when the unit is not assigned to it
  * (a report of a lost rank, or a bad id). */
@@ -60,5 +65,7 @@ double rt_ledger_held_sum(const rt_ledger *L, int rank, const double *per_unit);
 uint32_t rt_ledger_lose(rt_ledger *L, int rank);
 /* Every unit of pass k (0-based) is done or in. */
 int rt_ledger_pass_done(const rt_ledger *L, uint32_t k);
+/* Every unit of frame k is done or in. */
+int rt_ledger_frame_done(const rt_ledger *L, uint32_t k);
 
 #endif

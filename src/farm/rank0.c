@@ -9,6 +9,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #ifdef RT_HAVE_MPI
 #include <mpi.h>
@@ -46,9 +47,22 @@ typedef struct local {
 static int local_take(void *ctx, rt_unit *u)
 {
     local *L = ctx;
-    if (!rt_root_take(L->R, 0, u))
+    int got = rt_root_take(L->R, 0, u);
+    if (got > 0)
+        L->taken[u->id] = rt_now() - L->t0;
+    return got;
+}
+
+/* A frame job's units may not be ready yet (the cap): while rank 0 has
+ * nothing to render it naps and tries again (a frame completes with the
+ * workers' sums, taken in by the main thread, or with its own units). */
+static int local_poll(void *ctx, int idle)
+{
+    (void)ctx;
+    if (!idle)
         return 0;
-    L->taken[u->id] = rt_now() - L->t0;
+    struct timespec ts = {0, 200000L};
+    nanosleep(&ts, NULL);
     return 1;
 }
 
@@ -67,7 +81,7 @@ static void *local_loop(void *arg)
     local *L = arg;
     uint32_t n = rt_root_units(L->R);
     L->taken = calloc(n ? n : 1, sizeof *L->taken);
-    rt_render_source src = {.take = local_take, .done = local_done, .ctx = L};
+    rt_render_source src = {.take = local_take, .done = local_done, .poll = L->job->frames ? local_poll : NULL, .ctx = L};
     int st = L->taken ? rt_farm_run_units(L->job, &src) : RT_ENOMEM;
     if (st)
         rt_root_fail(L->R, st);
@@ -99,6 +113,7 @@ static void run_root(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *ow
 #endif
     if (RT_FARM_STOPPED())
         interrupted(f, own, R);
+    rt_root_tick(R); /* the frames completed last (or restored complete) */
     int complete;
     if ((st = rt_root_error(R, &complete)) != RT_OK)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));

@@ -13,6 +13,7 @@
 #include "clock.h"
 #include "mem.h"
 #include "msg.h"
+#include "policy.h"
 #include "status.h"
 
 /* Everything here is guarded by mu, but own, t0 and the schedule's shape,
@@ -38,7 +39,17 @@ rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks
     pthread_mutex_init(&R->mu, NULL);
     R->own = own;
     R->t0 = R->last_save = t0;
-    int st = rt_assembly_init(&R->as, &job->renderer->job, &job->sched, own->committed, own->acc, ranks, own->trace);
+    /* a frame job: one schedule of its frames' rows, the cap on frames in flight */
+    rt_job whole = job->renderer->job;
+    rt_sched_params p = job->sched;
+    if (job->frames) {
+        whole.height *= job->frames;
+        p.frame_rows = job->renderer->job.height;
+        p.frames_cap = RT_POLICY_FRAMES_IN_FLIGHT;
+    }
+    int st = rt_assembly_init(&R->as, &whole, &p, own->committed, own->acc, ranks, own->trace);
+    if (!st && job->frames && (st = rt_assembly_frames(&R->as, own->frame_acc)) != RT_OK)
+        rt_assembly_free(&R->as);
     if (!st && (st = rt_ledger_init(&R->led, &R->as.sched, ranks)) != RT_OK)
         rt_assembly_free(&R->as);
     if (st) {
@@ -106,9 +117,19 @@ void rt_root_finish(rt_root *R, rt_farm_result *res)
 int rt_root_take(rt_root *R, int rank, rt_unit *u)
 {
     pthread_mutex_lock(&R->mu);
-    int ok = !RT_FARM_STOPPED() && !R->error && rt_ledger_take(&R->led, &R->as.sched, rank, u);
+    int got = RT_FARM_STOPPED() || R->error ? 0 : rt_ledger_take(&R->led, &R->as.sched, rank, u);
+    if (got > 0 && R->as.facc) {
+        /* a frame job: the unit's frame has its sums from now on */
+        const uint32_t before = R->as.in_flight, k = rt_sched_frame(&R->as.sched, u->y0);
+        int st = rt_assembly_open(&R->as, u, rt_now() - R->t0);
+        if (st && !R->error)
+            R->error = st;
+        const rt_farm_hooks *h = &R->own->hooks;
+        if (R->as.in_flight > before && h->frame_open)
+            h->frame_open(h->client, k);
+    }
     pthread_mutex_unlock(&R->mu);
-    return ok;
+    return got;
 }
 
 /* A consistent copy of the committed counts and sums, taken under the lock
@@ -141,6 +162,60 @@ static void release(rt_root *R, uint32_t *committed, int64_t *acc)
     rt_mem_free(acc, rt_assembly_len(&R->as) * sizeof *acc);
 }
 
+/* A frame job's frames in flight, copied under the lock as snapshot()
+ * does; free with frames_release. */
+typedef struct frames_copy {
+    rt_farm_frames fr;
+    uint32_t *index, *committed;
+    int64_t **acc;
+    size_t bytes; /* of a frame's sums */
+} frames_copy;
+
+static void frames_release(frames_copy *c)
+{
+    for (uint32_t i = 0; c->acc && i < c->fr.n; i++)
+        rt_mem_free(c->acc[i], c->bytes);
+    free(c->acc);
+    free(c->index);
+    free(c->committed);
+}
+
+static int frames_snapshot(rt_root *R, frames_copy *c)
+{
+    memset(c, 0, sizeof *c);
+    const rt_sched *sc = &R->as.sched;
+    const uint32_t H = sc->frame_rows, cap = sc->cap;
+    c->bytes = rt_assembly_frame_bytes(&R->as);
+    c->index = malloc(cap * sizeof *c->index);
+    c->committed = malloc((size_t)cap * H * sizeof *c->committed);
+    c->acc = calloc(cap, sizeof *c->acc);
+    for (uint32_t i = 0; c->acc && i < cap; i++)
+        if (!(c->acc[i] = rt_mem_zeroed(c->bytes)))
+            break;
+    if (!c->index || !c->committed || !c->acc || !c->acc[cap - 1]) {
+        c->fr.n = cap;
+        frames_release(c);
+        return RT_ENOMEM;
+    }
+    pthread_mutex_lock(&R->mu);
+    uint32_t n = 0;
+    for (uint32_t k = sc->low; k < sc->frames && n < cap; k++) {
+        if (!R->as.facc[k] || rt_sched_frame_complete(sc, k))
+            continue; /* no sums yet, or complete (the frame hook has it, or will) */
+        c->index[n] = k;
+        memcpy(c->committed + (size_t)n * H, sc->committed + (size_t)k * H, H * sizeof *c->committed);
+        memcpy(c->acc[n++], R->as.facc[k], c->bytes);
+    }
+    R->as.dirty = 0;
+    pthread_mutex_unlock(&R->mu);
+    for (uint32_t i = n; i < cap; i++) {
+        rt_mem_free(c->acc[i], c->bytes);
+        c->acc[i] = NULL;
+    }
+    c->fr = (rt_farm_frames){.n = n, .index = c->index, .committed = c->committed, .acc = c->acc};
+    return RT_OK;
+}
+
 /* After each progressive pass but the last (the final image, which the
  * caller writes): a consistent image for hooks.pass. When the last passes
  * complete together (units of later passes came in before an early one),
@@ -167,7 +242,7 @@ static void pass_hook(rt_root *R, uint32_t pass)
 static int save_hook(rt_root *R, int force)
 {
     const rt_farm_hooks *h = &R->own->hooks;
-    if (!h->save)
+    if (R->as.facc ? !h->save_frames : !h->save)
         return 0;
     double now = rt_now();
     if (!force && now - R->last_save < h->save_interval)
@@ -180,8 +255,14 @@ static int save_hook(rt_root *R, int force)
         return 1;
     uint32_t *committed;
     int64_t *acc;
-    int st = snapshot(R, 1, &committed, &acc);
-    if (!st) {
+    frames_copy fc;
+    int st;
+    if (R->as.facc) {
+        if (!(st = frames_snapshot(R, &fc))) {
+            st = h->save_frames(h->client, &fc.fr);
+            frames_release(&fc);
+        }
+    } else if (!(st = snapshot(R, 1, &committed, &acc))) {
         st = h->save(h->client, committed, acc);
         release(R, committed, acc);
     }
@@ -193,9 +274,39 @@ static int save_hook(rt_root *R, int force)
     return !st;
 }
 
-void rt_root_tick(rt_root *R)
+/* A frame job: the frames complete since the last call go to hooks.frame;
+ * how many. */
+static uint32_t frames_hook(rt_root *R)
 {
     const rt_farm_hooks *h = &R->own->hooks;
+    uint32_t n = 0;
+    for (;;) {
+        rt_farm_frame f;
+        pthread_mutex_lock(&R->mu);
+        int got = rt_assembly_next_frame(&R->as, &f, rt_now() - R->t0);
+        pthread_mutex_unlock(&R->mu);
+        if (!got)
+            return n;
+        n++;
+        if (h->frame) {
+            h->frame(h->client, &f);
+        } else {
+            rt_mem_free(f.acc, f.acc_bytes);
+            free(f.trace);
+        }
+        /* Only now (the hook may have waited for the writer) does the frame
+         * leave the cap: rank 0 holds at most the cap's frames and what
+         * the hook keeps. */
+        pthread_mutex_lock(&R->mu);
+        rt_sched_release(&R->as.sched, f.index);
+        pthread_mutex_unlock(&R->mu);
+    }
+}
+
+uint32_t rt_root_tick(rt_root *R)
+{
+    const rt_farm_hooks *h = &R->own->hooks;
+    const uint32_t frames = R->as.facc ? frames_hook(R) : 0;
     pthread_mutex_lock(&R->mu);
     uint64_t rows = R->as.sched.rows_done, segs = R->as.segments;
     uint32_t done = R->as.passes_done, passes = R->as.sched.passes;
@@ -207,6 +318,7 @@ void rt_root_tick(rt_root *R)
     if (ready)
         pass_hook(R, done);
     save_hook(R, 0);
+    return frames;
 }
 
 int rt_root_save_now(rt_root *R) { return save_hook(R, 1); }
@@ -233,6 +345,22 @@ uint32_t rt_root_held(rt_root *R, int rank)
 {
     pthread_mutex_lock(&R->mu);
     uint32_t n = R->led.held[rank];
+    pthread_mutex_unlock(&R->mu);
+    return n;
+}
+
+int rt_root_frame_done(rt_root *R, uint32_t k)
+{
+    pthread_mutex_lock(&R->mu);
+    int done = R->as.facc && rt_ledger_frame_done(&R->led, k);
+    pthread_mutex_unlock(&R->mu);
+    return done;
+}
+
+uint32_t rt_root_frames_peak(rt_root *R)
+{
+    pthread_mutex_lock(&R->mu);
+    uint32_t n = R->as.in_flight_peak;
     pthread_mutex_unlock(&R->mu);
     return n;
 }

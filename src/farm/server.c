@@ -61,6 +61,7 @@ typedef struct server {
     double last_done;  /* when the last unit was reported done */
     double next_flush; /* when to ask for sums ahead of the next checkpoint */
     uint32_t pass_asked; /* passes whose sums were asked for */
+    uint32_t frame_asked; /* a frame job: frames whose sums were asked for */
     int finishing;       /* FINISH sent */
     outgoing *outbox;    /* sends not yet complete */
     size_t n_outbox, cap_outbox;
@@ -113,7 +114,7 @@ static void serve_peer(server *s, int r)
     peer *p = &s->peers[r];
     size_t n = 0;
     rt_unit u;
-    while (p->alive && p->credit > 0 && rt_root_take(s->R, r, &u)) {
+    while (p->alive && p->credit > 0 && rt_root_take(s->R, r, &u) > 0) {
         if (rt_array_reserve((void **)&s->out, &s->cap_out, (n + 1) * RT_MSG_UNIT, sizeof *s->out))
             rt_farm_fail(s->f, RT_EXIT_RUNTIME, "out of memory on rank 0");
         rt_msg_units_encode(s->out + n++ * RT_MSG_UNIT, &u, 1);
@@ -364,7 +365,14 @@ static void ask_when_due(server *s)
         s->next_flush = now + h->save_interval;
     if (pass_done)
         s->pass_asked++;
-    if (pass_done || ckpt)
+    /* a frame job: every unit of a frame is done, its sums are wanted now
+     * (the frame is written as soon as they are in) */
+    int frame_done = 0;
+    while (rt_root_frame_done(s->R, s->frame_asked)) {
+        s->frame_asked++;
+        frame_done = 1;
+    }
+    if (pass_done || ckpt || frame_done)
         ask_sums(s);
 }
 
@@ -401,7 +409,8 @@ void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own,
         int err = rt_root_error(R, &complete);
         if (err)
             rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering on rank 0 failed: %s", rt_status_str(err));
-        rt_root_tick(R);
+        if (rt_root_tick(R))
+            serve_all(&s); /* a frame completed: units of a later one may be ready */
         ask_when_due(&s);
         if (complete && !s.finishing) {
             s.finishing = 1;

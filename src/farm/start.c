@@ -141,6 +141,16 @@ void rt_farm_exit(const rt_farm *f, rt_exit_code code)
     exit(code);
 }
 
+/* What rt_farm_fail runs first (rt_farm_on_fail). */
+static void (*g_on_fail)(void *);
+static void *g_on_fail_ctx;
+
+void rt_farm_on_fail(void (*fn)(void *), void *ctx)
+{
+    g_on_fail = fn;
+    g_on_fail_ctx = ctx;
+}
+
 void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...)
 {
     char msg[1024];
@@ -148,6 +158,10 @@ void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
+    void (*on_fail)(void *) = g_on_fail;
+    g_on_fail = NULL; /* once, even if it fails in turn */
+    if (on_fail)
+        on_fail(g_on_fail_ctx);
     if (f->size > 1)
         fprintf(stderr, "rt-mpi: error: rank %d: %s\n", f->rank, msg);
     else

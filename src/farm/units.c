@@ -7,8 +7,87 @@
 
 #include "status.h"
 
+/* A frame job's ring of frame renderers on this rank: slot k % RT_FARM_RING
+ * holds frame index k's, built (job->frame_renderer) by the thread that
+ * takes the first unit of k that the slot sees, under the stream's lock:
+ * the other threads go on rendering their runs meanwhile, and wait only if
+ * they need a new run before it is built (once per frame and rank: the
+ * camera, shutter and camera-ray lists that the frame-by-frame job set up
+ * before each frame on every rank). The slot must hold no
+ * unit in hand then: the cap guarantees it (a unit of frame k is handed
+ * out only when every frame before k - cap + 1 is complete, so every unit
+ * of frame k - RT_FARM_RING is done on every rank), and a slot still in use
+ * is an error (RT_EINVAL), never a silent rebuild under a unit. */
+typedef struct ring {
+    const rt_farm_job *job;
+    const rt_render_source *src; /* the rank's source */
+    pthread_mutex_t mu;          /* the slots: take and done run under different locks */
+    struct {
+        const rt_renderer *r;
+        uint32_t index, in_hand; /* the frame it holds, its units in hand */
+        int built;
+    } slot[RT_FARM_RING];
+} ring;
+
+static int ring_take(void *ctx, rt_unit *u)
+{
+    const ring *g = ctx;
+    return g->src->take(g->src->ctx, u);
+}
+
+static int ring_poll(void *ctx, int idle)
+{
+    const ring *g = ctx;
+    return g->src->poll(g->src->ctx, idle);
+}
+
+static uint32_t frame_of(const ring *g, const rt_unit *u) { return u->y0 / g->job->renderer->job.height; }
+
+static int ring_renderer(void *ctx, const rt_unit *u, const rt_renderer **r, uint32_t *y0)
+{
+    ring *g = ctx;
+    const uint32_t k = frame_of(g, u), i = k % RT_FARM_RING;
+    int st = RT_OK;
+    pthread_mutex_lock(&g->mu);
+    if (!g->slot[i].built || g->slot[i].index != k) {
+        if (g->slot[i].in_hand) {
+            st = RT_EINVAL; /* frame index - RT_FARM_RING still in hand: the cap was broken */
+        } else {
+            g->slot[i].built = 0;
+            g->slot[i].index = k;
+            st = g->job->frame_renderer(g->job->frame_ctx, i, k, &g->slot[i].r);
+            g->slot[i].built = !st;
+        }
+    }
+    if (!st) {
+        g->slot[i].in_hand++;
+        *r = g->slot[i].r;
+        *y0 = u->y0 - k * g->job->renderer->job.height;
+    }
+    pthread_mutex_unlock(&g->mu);
+    return st;
+}
+
+static void ring_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments)
+{
+    ring *g = ctx;
+    g->src->done(g->src->ctx, u, sums, segments);
+    pthread_mutex_lock(&g->mu);
+    g->slot[frame_of(g, u) % RT_FARM_RING].in_hand--;
+    pthread_mutex_unlock(&g->mu);
+}
+
 int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src)
 {
+    if (!job->empty_units && job->frames) {
+        ring g = {.job = job, .src = src};
+        pthread_mutex_init(&g.mu, NULL);
+        const rt_render_source rs = {.take = ring_take, .done = ring_done, .poll = src->poll ? ring_poll : NULL,
+                                     .renderer = ring_renderer, .ctx = &g};
+        int st = rt_render_stream(job->renderer, job->threads, &rs);
+        pthread_mutex_destroy(&g.mu);
+        return st;
+    }
     if (!job->empty_units)
         return rt_render_stream(job->renderer, job->threads, src);
     /* --empty-units: every unit adds nothing, without rendering; the zero

@@ -218,12 +218,13 @@ static void receive_units(worker *w, const MPI_Status *status)
         rt_farm_fail(w->f, RT_EXIT_RUNTIME, "malformed units from rank 0");
     MPI_Recv(m, count, MPI_UINT32_T, 0, RT_TAG_UNITS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     const rt_job *j = &w->job->renderer->job;
+    const uint64_t rows = (uint64_t)j->height * (w->job->frames ? w->job->frames : 1); /* a frame job's: all frames' */
     size_t n = 0;
     pthread_mutex_lock(&w->mu);
     int bad = rt_msg_units_decode(m, (size_t)count, units, (size_t)(w->depth - w->qlen), &n) != RT_OK;
     for (size_t k = 0; k < n && !bad; k++) {
         const rt_unit u = units[k];
-        bad |= u.y1 <= u.y0 || u.y1 > j->height || u.x1 <= u.x0 || u.x1 > j->width || u.s1 <= u.s0 ||
+        bad |= u.y1 <= u.y0 || u.y1 > rows || u.x1 <= u.x0 || u.x1 > j->width || u.s1 <= u.s0 ||
                u.s1 > j->samples;
         if (!bad)
             w->queue[(w->qhead + w->qlen++) % w->depth] = u;

@@ -2,10 +2,11 @@
  *   "RTCKPT\0\0" | u32 version | u32 width height samples max_depth diffuse
  *   exact | u64 seed scene_hash | u32 sampling sampler roulette aov |
  *   u64 noise threshold (IEEE double bits) | u32 light | u32 frame job
- *   first last step frame turntable-frames | u64 turntable degrees (IEEE
- *   double bits) | u32 rows with samples |
- *   height u32 sample counts | for each row with samples, width*ch i64
- *   sums (ch: the job's layout, job.h) |
+ *   first last step | u32 frames held n | u32 turntable-frames | u64
+ *   turntable degrees (IEEE double bits) | u32 rows with samples |
+ *   n u32 frame numbers (one image: 0) | n x height u32 sample counts (a
+ *   frame's rows, then the next frame's) | for each row with samples,
+ *   width*ch i64 sums (ch: the job's layout, job.h) |
  *   u64 FNV-1a of all before. */
 #include "checkpoint.h"
 
@@ -60,13 +61,24 @@ static uint64_t threshold_bits(double v)
 
 int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *committed, const int64_t *acc)
 {
+    const int64_t *const one[1] = {acc};
+    return rt_ckpt_write_frames(path, id, 1, &id->frame, committed, one);
+}
+
+int rt_ckpt_write_frames(const char *path, const rt_ckpt_id *id, uint32_t n, const uint32_t *frames,
+                         const uint32_t *committed, const int64_t *const *acc)
+{
+    if (n > RT_CKPT_MAX_FRAMES)
+        return RT_EINVAL;
     rt_atomic_file f;
     int st = rt_atomic_open(&f, path);
     if (st)
         return st;
     hwriter w = {f.fp, RT_HASH_INIT, 0};
+    const uint32_t H = id->job.height;
+    const size_t rows = (size_t)n * H;
     uint32_t done = 0;
-    for (uint32_t y = 0; y < id->job.height; y++)
+    for (size_t y = 0; y < rows; y++)
         done += committed[y] != 0;
     put(&w, MAGIC, 8);
     put_u32(&w, RT_CKPT_VERSION);
@@ -88,11 +100,13 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
     put_u32(&w, id->first);
     put_u32(&w, id->last);
     put_u32(&w, id->step);
-    put_u32(&w, id->frame);
+    put_u32(&w, n);
     put_u32(&w, id->turn_frames);
     put_u64(&w, threshold_bits(id->turn_degrees));
     put_u32(&w, done);
-    for (uint32_t y = 0; y < id->job.height; y++)
+    for (uint32_t i = 0; i < n; i++)
+        put_u32(&w, frames[i]);
+    for (size_t y = 0; y < rows; y++)
         put_u32(&w, committed[y]);
     size_t rowlen = (size_t)id->job.width * rt_job_layout(&id->job).ch;
     uint8_t *buf = malloc(rowlen * 8);
@@ -100,10 +114,10 @@ int rt_ckpt_write(const char *path, const rt_ckpt_id *id, const uint32_t *commit
         rt_atomic_abort(&f);
         return RT_ENOMEM;
     }
-    for (uint32_t y = 0; y < id->job.height && !w.err; y++) {
+    for (size_t y = 0; y < rows && !w.err; y++) {
         if (!committed[y])
             continue;
-        const int64_t *row = acc + (size_t)y * rowlen;
+        const int64_t *row = acc[y / H] + (y % H) * rowlen;
         for (size_t i = 0; i < rowlen; i++)
             for (int k = 0; k < 8; k++)
                 buf[i * 8 + k] = (uint8_t)((uint64_t)row[i] >> (8 * k));
@@ -183,7 +197,6 @@ static int same_job(const uint8_t *p, const rt_ckpt_id *expect, char *why, size_
         {"first frame", get_u32(fr + 4), expect->first},
         {"last frame", get_u32(fr + 8), expect->last},
         {"frame step", get_u32(fr + 12), expect->step},
-        {"frame", get_u32(fr + 16), expect->frame},
         {"turntable frames", get_u32(fr + 20), expect->turn_frames},
         {"turntable degrees (bits)", get_u64(fr + 24), threshold_bits(expect->turn_degrees)},
     };
@@ -209,20 +222,35 @@ int rt_ckpt_check(const char *path, const rt_ckpt_id *expect, char *why, size_t 
     return st;
 }
 
-int rt_ckpt_frame(const char *path, uint32_t *frame, char *why, size_t whylen)
+int rt_ckpt_frames(const char *path, uint32_t *n, uint32_t *frames, uint32_t max, char *why, size_t whylen)
 {
     uint8_t *data;
     size_t len;
     int st = load(path, &data, &len, why, whylen);
     if (st)
         return st;
-    *frame = get_u32(data + 12 + FRAME_AT + 16);
+    const uint8_t *p = data + 12 + FRAME_AT;
+    *n = get_u32(p + 16);
+    if (*n > max || *n > RT_CKPT_MAX_FRAMES || len < HEADER_BYTES + 8 + (size_t)*n * 4) {
+        snprintf(why, whylen, "inconsistent frame records");
+        free(data);
+        return RT_EFORMAT;
+    }
+    for (uint32_t i = 0; i < *n; i++)
+        frames[i] = get_u32(p + 36 + 4 * (size_t)i);
     free(data);
     return RT_OK;
 }
 
 int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed, int64_t *acc,
                  uint32_t *rows_done, char *why, size_t whylen)
+{
+    int64_t *const one[1] = {acc};
+    return rt_ckpt_read_frames(path, expect, 1, committed, one, rows_done, why, whylen);
+}
+
+int rt_ckpt_read_frames(const char *path, const rt_ckpt_id *expect, uint32_t n, uint32_t *committed,
+                        int64_t *const *acc, uint32_t *rows_done, char *why, size_t whylen)
 {
     uint8_t *data;
     size_t len;
@@ -234,14 +262,16 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         free(data);
         return st;
     }
+    const uint32_t H = expect->job.height;
+    const size_t rows = (size_t)n * H;
     uint32_t with = get_u32(p + FRAME_AT + 32);
-    const uint8_t *counts = p + FRAME_AT + 36;
+    const uint8_t *counts = p + FRAME_AT + 36 + 4 * (size_t)n;
     size_t rowlen = (size_t)expect->job.width * rt_job_layout(&expect->job).ch;
-    size_t want_len = HEADER_BYTES + (size_t)expect->job.height * 4 + (size_t)with * rowlen * 8 + 8;
-    uint32_t counted = 0, bad = 0;
-    if (len == want_len) {
-        for (uint32_t y = 0; y < expect->job.height; y++) {
-            uint32_t c = get_u32(counts + 4 * (size_t)y);
+    size_t want_len = HEADER_BYTES + (size_t)n * 4 + rows * 4 + (size_t)with * rowlen * 8 + 8;
+    uint32_t counted = 0, bad = get_u32(p + FRAME_AT + 16) != n;
+    if (len == want_len && !bad) {
+        for (size_t y = 0; y < rows; y++) {
+            uint32_t c = get_u32(counts + 4 * y);
             counted += c != 0;
             bad += c > expect->job.samples;
         }
@@ -251,11 +281,11 @@ int rt_ckpt_read(const char *path, const rt_ckpt_id *expect, uint32_t *committed
         free(data);
         return RT_EFORMAT;
     }
-    const uint8_t *q = counts + 4 * (size_t)expect->job.height;
+    const uint8_t *q = counts + 4 * rows;
     uint32_t complete = 0;
-    for (uint32_t y = 0; y < expect->job.height; y++) {
-        int64_t *row = acc + (size_t)y * rowlen;
-        committed[y] = get_u32(counts + 4 * (size_t)y);
+    for (size_t y = 0; y < rows; y++) {
+        int64_t *row = acc[y / H] + (y % H) * rowlen;
+        committed[y] = get_u32(counts + 4 * y);
         complete += committed[y] == expect->job.samples;
         if (!committed[y]) {
             memset(row, 0, rowlen * sizeof *row);

@@ -86,14 +86,44 @@ if [ -n "$MPIRUN" ]; then
     same_frames "turntable -np 3 --split samples" turn 1 5 2 mpirun_np 3 "$BIN" "${T[@]}" -j 1 --split samples --frames 1-5:2
     same_frames "moving spheres -np 2 -j 2" bounce 0 2 1 mpirun_np 2 "$BIN" "${B[@]}" -j 2 --frames 0-2
     same_frames "moving spheres -np 3 --split columns" bounce 0 2 1 mpirun_np 3 "$BIN" "${B[@]}" -j 1 --split columns --frames 0-2
+    # Units across frames (one schedule for the range): the trace of each
+    # frame (its units' events, global rows y0 = frame index x height + row,
+    # times from the range's start) shows a unit of frame k+1 starting more
+    # than 5 ms before frame k's last unit ends, for some k (5 ms: beyond
+    # the ranks' clock origins, which differ by their exits from a barrier:
+    # up to 2 ms seen here with frames one after another, 4 to 60 ms of
+    # overlap with frames in flight).
+    rm -rf "$WORK/tr" && mkdir -p "$WORK/tr"
+    mpirun_np 3 "$BIN" --width 64 --height 32 -s 32 --grid 3 --turntable 90:4 -q -j 1 --frames 0-5 \
+        -o "$WORK/tr/f_#.png" --trace "$WORK/tr/t_#.json" >/dev/null 2>"$WORK/tr.err" ||
+        fail "units across frames: the job failed: $(head -c 300 "$WORK/tr.err")"
+    overlap=$(python3 - "$WORK/tr" 32 6 <<'PY'
+import json, sys
+d, h, n = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+start, end, wrong = {}, {}, 0
+for f in range(n):
+    for e in json.load(open("%s/t_%d.json" % (d, f)))["traceEvents"]:
+        if e.get("ph") != "X":
+            continue
+        k = e["args"]["y0"] // h
+        wrong += k != f or (e["args"]["y1"] - 1) // h != k  # its own frame's, never across
+        start[k] = min(start.get(k, 1e30), e["ts"])
+        end[k] = max(end.get(k, 0), e["ts"] + e["dur"])
+print("wrong" if wrong else sum(1 for k in range(n - 1) if start[k + 1] < end[k] - 5000))
+PY
+)
+    [ -n "$overlap" ] && [ "$overlap" != wrong ] && [ "$overlap" -gt 0 ] &&
+        pass "units across frames: $overlap of 5 frames overlap the next" ||
+        fail "units across frames: no frame's units overlap the next's ($overlap)"
 else
     skip "mpirun not found: frame jobs over ranks"
 fi
 # ---- rank 0's writer thread ---------------------------------------------------
-# 8 frames over 2 ranks: each file (written by the writer thread while the
-# next frame renders) is the frame alone, the summaries come in frame order,
-# and each names the peak of frames held on rank 0 (1 to 4: at most 2 waiting,
-# one being written, one rendering), never falling.
+# 8 frames over 2 ranks: each file (written by the writer thread while
+# later frames render) is the frame alone, each frame has one summary (in
+# the order the frames completed), and each names the peak of frames held on
+# rank 0 (1 to 7: at most 4 in flight, 2 waiting, one being written), never
+# falling; the range's summary closes the output with its peak.
 W=(--width 40 --height 24 -s 2 --grid 2 --turntable 45:8 -q)
 for f in 0 1 2 3 4 5 6 7; do alone writer "$f" "${W[@]}"; done
 if [ -n "$MPIRUN" ]; then
@@ -101,18 +131,29 @@ if [ -n "$MPIRUN" ]; then
 else
     same_frames "writer thread: 8 frames -j 2" writer 0 7 1 "$BIN" "${W[@]}" -j 2 --frames 0-7
 fi
-check_eq "writer thread: summaries in frame order" "$(sed -n 's/^frame: *//p' "$WORK/seq.out" | tr '\n' ' ')" \
+check_eq "writer thread: one summary a frame" "$(sed -n 's/^frame: *//p' "$WORK/seq.out" | sort -n | tr '\n' ' ')" \
     "0 1 2 3 4 5 6 7 "
-peaks=$(sed -n 's/^frames held: *peak \([0-9]*\) on rank 0 (at most 2 waiting for the writer thread)$/\1/p' "$WORK/seq.out" | tr '\n' ' ')
-check_eq "writer thread: every summary names the peak (1 to 4, never falling)" \
-    "$(awk -v p="$peaks" 'BEGIN { n = split(p, a, " "); ok = n == 8; for (i = 1; i <= n; i++) ok = ok && a[i] >= 1 && a[i] <= 4 && (i == 1 || a[i] >= a[i-1]); print ok ? "yes" : "no: " p }')" "yes"
+held='(at most 4 in flight, 2 waiting for the writer thread, 1 being written)'
+peaks=$(sed -n "s/^frames held: *peak \([0-9]*\) on rank 0 $held\$/\1/p" "$WORK/seq.out" | tr '\n' ' ')
+check_eq "writer thread: every summary names the peak (1 to 7, never falling)" \
+    "$(awk -v p="$peaks" 'BEGIN { n = split(p, a, " "); ok = n == 8; for (i = 1; i <= n; i++) ok = ok && a[i] >= 1 && a[i] <= 7 && (i == 1 || a[i] >= a[i-1]); print ok ? "yes" : "no: " p }')" "yes"
+check_eq "writer thread: the range's summary ends the output" \
+    "$(tail -1 "$WORK/seq.out" | sed -n "s/^frames held: *peak [1-7] on rank 0 over the range $held\$/ok/p")" "ok"
 # a write that fails in the middle of the range (frame 3's name is a
-# directory): one line, exit 1; the frames before it written, none after
+# directory): one line, exit 1; the frames handed to the writer before it
+# are written (frames complete in any order: which ones varies), each
+# complete and the frame alone, and no temporary file is left
 rm -rf "$WORK/wf" && mkdir -p "$WORK/wf/f_3.png"
 "$BIN" "${W[@]}" -j 2 --frames 0-7 -o "$WORK/wf/f_#.png" >/dev/null 2>"$WORK/wf.err"
 check_eq "writer thread: a failed write's exit status" "$?" "1"
 check_eq "writer thread: a failed write's one line" "$(cat "$WORK/wf.err")" \
     "rt-mpi: error: writing $WORK/wf/f_3.png: $(sed -n 's/^rt-mpi: error: writing [^:]*: //p' "$WORK/wf.err")"
-check_eq "writer thread: a failed write's files" "$(ls "$WORK/wf" | tr '\n' ' ')" "f_0.png f_1.png f_2.png f_3.png "
+bad_files=0
+for f in $(ls -A "$WORK/wf"); do
+    n=$(echo "$f" | sed -n 's/^f_\([0-9]\)\.png$/\1/p')
+    [ "$f" = f_3.png ] && continue
+    [ -n "$n" ] && cmp -s "$WORK/wf/$f" "$WORK/alone_writer_$n.png" || bad_files=$((bad_files + 1))
+done
+check_eq "writer thread: a failed write leaves only whole frames (and no temp file)" "$bad_files" "0"
 check_eq "writer thread: nothing written into the directory" "$(ls -A "$WORK/wf/f_3.png" | wc -l)" "0"
 finish

@@ -91,16 +91,18 @@ fi
 # frames alone (same inode and time: not rendered or written again),
 # continues the frame in flight from the checkpoint's sums (fewer ray
 # segments than that frame alone) and renders the rest; every frame
-# identical to an uninterrupted run.
+# identical to an uninterrupted run. The checkpoint (format 8) lists its
+# frames in flight: their count at offset 96, the rows with samples at 112,
+# their numbers from 116, then each frame's row counts.
 F=(--width 160 --height 96 -s 300 --turntable 60:4 -q -j 2)
 "$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fref_#.png" --stats "$WORK/fref_#.json" --no-checkpoint >/dev/null
 check_eq "frame job reference" $? 0
 ckpt_u32() { od -An -tu4 -j "$2" -N4 "$1" 2>/dev/null | tr -d ' '; } # file offset
 "$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fr_#.png" --checkpoint-interval 0 >/dev/null 2>"$WORK/fr.err" &
 pid=$!
-# the checkpoint's frame (offset 96) is 2 and some of its rows are in (100)
+# the checkpoint's first frame in flight is 2 and some rows are in
 for ((i = 0; i < 600; i++)); do
-    [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 96)" = 2 ] && [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 112)" -gt 0 ] 2>/dev/null && break
+    [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 116)" = 2 ] && [ "$(ckpt_u32 "$WORK/fr_#.png.ckpt" 112)" -gt 0 ] 2>/dev/null && break
     sleep 0.1
 done
 kill -TERM $pid
@@ -115,11 +117,65 @@ segs=$(stat_of "$WORK/fr_2.json" ray_segments) all=$(stat_of "$WORK/fref_2.json"
 [ -n "$segs" ] && [ -n "$all" ] && [ "$segs" -lt "$all" ] &&
     pass "frame job: frame 2 continued from the checkpoint ($segs of $all ray segments)" ||
     fail "frame job: frame 2 rendered again: $segs of $all ray segments"
-check_eq "frame job: frame 3 rendered whole" "$(stat_of "$WORK/fr_3.json" ray_segments)" "$(stat_of "$WORK/fref_3.json" ray_segments)"
+# frame 3 may have been in flight too when the signal came: never more than whole
+segs=$(stat_of "$WORK/fr_3.json" ray_segments) all=$(stat_of "$WORK/fref_3.json" ray_segments)
+[ -n "$segs" ] && [ -n "$all" ] && [ "$segs" -le "$all" ] && pass "frame job: frame 3 rendered ($segs of $all ray segments)" ||
+    fail "frame job: frame 3: $segs of $all ray segments"
 same=0
 for f in 0 1 2 3; do cmp -s "$WORK/fr_$f.png" "$WORK/fref_$f.png" && same=$((same + 1)); done
 check_eq "frame job: resumed frames identical to the uninterrupted run" "$same of 4" "4 of 4"
 [ ! -e "$WORK/fr_#.png.ckpt" ] && pass "frame job: checkpoint removed after the last frame" || fail "frame job: checkpoint left"
+
+# Two frames in flight (units across frames, issue 37): stopped while two
+# frames both have rows in, the checkpoint holds both (each with its counts
+# and sums), and --resume continues both (fewer ray segments than each
+# alone) and ends with every frame identical. Over 2 ranks a frame's last
+# units run beside the next frame's first; the signal is sent once the
+# checkpoint shows two partial frames, and the check reads the checkpoint
+# the stop left (the job is run again, at most 5 times, until it does).
+if [ -n "$MPIRUN" ]; then
+    P=(--width 64 --height 16 -s 600 --turntable 60:4 -q --band 2)
+    "$BIN" "${P[@]}" -j 2 --frames 0-5 -o "$WORK/pref_#.png" --stats "$WORK/pref_#.json" --no-checkpoint >/dev/null
+    check_eq "two in flight: reference" $? 0
+    two_partial() { # checkpoint: its first two frames in flight, when both have rows in
+        local c=$1 n rows a b
+        n=$(ckpt_u32 "$c" 96)
+        [ -n "$n" ] && [ "$n" -ge 2 ] 2>/dev/null || return 1
+        a=$(od -An -tu4 -j $((116 + 4 * n)) -N 64 "$c" | tr -s ' \n' ' ' | awk '{ s = 0; for (i = 1; i <= NF; i++) s += $i; print (s > 0) }')
+        b=$(od -An -tu4 -j $((116 + 4 * n + 64)) -N 64 "$c" | tr -s ' \n' ' ' | awk '{ s = 0; for (i = 1; i <= NF; i++) s += $i; print (s > 0) }')
+        [ "$a" = 1 ] && [ "$b" = 1 ] && echo "$(ckpt_u32 "$c" 116) $(ckpt_u32 "$c" 120)"
+    }
+    got=""
+    for attempt in 1 2 3 4 5; do
+        [ -n "$got" ] && break
+        rm -f "$WORK"/p2_* "$WORK/p2_#.png.ckpt"
+        "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${P[@]}" -j 1 --frames 0-5 -o "$WORK/p2_#.png" --checkpoint-interval 0 >/dev/null 2>"$WORK/p2.err" &
+        pid=$!
+        for ((i = 0; i < 600; i++)); do
+            two_partial "$WORK/p2_#.png.ckpt" >/dev/null && break
+            kill -0 $pid 2>/dev/null || break
+            sleep 0.02
+        done
+        kill -USR1 $pid 2>/dev/null
+        wait $pid
+        got=$(two_partial "$WORK/p2_#.png.ckpt")
+    done
+    [ -n "$got" ] && pass "two in flight: the stop's checkpoint holds frames $got, both partial" ||
+        fail "two in flight: no checkpoint with two partial frames in 5 runs"
+    if [ -n "$got" ]; then
+        "$BIN" "${P[@]}" -j 2 --frames 0-5 -o "$WORK/p2_#.png" --resume --stats "$WORK/p2_#.json" >/dev/null 2>"$WORK/p2.err"
+        check_eq "two in flight: resume exit status" $? 0
+        continued=0
+        for f in $got; do
+            segs=$(stat_of "$WORK/p2_$f.json" ray_segments) all=$(stat_of "$WORK/pref_$f.json" ray_segments)
+            [ -n "$segs" ] && [ -n "$all" ] && [ "$segs" -lt "$all" ] && continued=$((continued + 1))
+        done
+        check_eq "two in flight: both frames continued from the checkpoint" "$continued" "2"
+        same=0
+        for f in 0 1 2 3 4 5; do cmp -s "$WORK/p2_$f.png" "$WORK/pref_$f.png" && same=$((same + 1)); done
+        check_eq "two in flight: resumed frames identical" "$same of 6" "6 of 6"
+    fi
+fi
 # another job's checkpoint (another range) is refused
 "$BIN" "${F[@]}" --frames 0-3 -o "$WORK/fo_#.png" -s 2 --keep-checkpoint >/dev/null 2>&1
 mv "$WORK/fo_#.png.ckpt" "$WORK/keep.ckpt"

@@ -8,6 +8,7 @@
 
 #include "assemble.h"
 #include "check.h"
+#include "mem.h"
 #include "rng.h"
 #include "status.h"
 
@@ -128,6 +129,69 @@ static void run(uint32_t passes, uint32_t ranks, uint64_t seed, uint32_t band, u
     free(acc);
 }
 
+/* A frame job: 3 frames of H rows as one schedule; each unit's sums go to
+ * its frame's buffer (opened when a unit of it is handed out), whatever the
+ * arrival order, and each frame comes out once complete, with its own
+ * sums, units, segments and trace events. */
+static void frames_case(void)
+{
+    rt_job job = JOB;
+    job.height = 3 * H;
+    const rt_sched_params p = {.max_band = 4, .ranks = 2, .units_per_rank = 8, .min_samples = 1, .passes = 1,
+                               .split = RT_SPLIT_COLUMNS, .frame_rows = H, .frames_cap = 3};
+    rt_assembly a;
+    CHECK_EQ_INT(rt_assembly_init(&a, &job, &p, NULL, NULL, 2, 1), RT_OK);
+    CHECK_EQ_INT(rt_assembly_frames(&a, NULL), RT_OK);
+    const uint32_t n = a.sched.n_units;
+    rt_unit *units = malloc(n * sizeof *units);
+    uint32_t per_frame[3] = {0, 0, 0};
+    for (uint32_t k = 0; k < n; k++) {
+        CHECK(rt_sched_next(&a.sched, &units[k]));
+        CHECK_EQ_INT(rt_assembly_open(&a, &units[k], k), RT_OK);
+        per_frame[units[k].y0 / H]++;
+    }
+    CHECK_EQ_INT(a.in_flight, 3);
+    rt_rng rng = rt_rng_for_stream(29, 1);
+    for (uint32_t k = n; k > 1; k--) { /* Fisher-Yates */
+        uint32_t j = (uint32_t)(rt_rng_double(&rng) * k);
+        rt_unit t = units[k - 1];
+        units[k - 1] = units[j];
+        units[j] = t;
+    }
+    int64_t sums[W * H * 3];
+    for (uint32_t k = 0; k < n; k++) {
+        unit_sums(&units[k], sums);
+        CHECK_EQ_INT(rt_assembly_add(&a, (int)(k % 2), &units[k], sums, 10, k, k + 0.5), RT_OK);
+    }
+    CHECK_EQ_INT(a.n_ready, 3);
+    int seen[3] = {0, 0, 0}, right = 1;
+    rt_farm_frame f;
+    while (rt_assembly_next_frame(&a, &f, 99.0)) {
+        CHECK(f.index < 3);
+        seen[f.index]++;
+        CHECK_EQ_INT(f.units, per_frame[f.index]);
+        CHECK_EQ_U64(f.segments, 10u * per_frame[f.index]);
+        CHECK_EQ_INT(f.n_trace, per_frame[f.index]);
+        CHECK_EQ_INT(f.acc_bytes, (size_t)W * H * 3 * sizeof(int64_t));
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t x = 0; x < W; x++)
+                for (uint32_t c = 0; c < 3; c++) {
+                    int64_t want = 0;
+                    for (uint32_t s = 0; s < S; s++)
+                        want += sample_value(f.index * H + y, x, c, s);
+                    right &= f.acc[((size_t)y * W + x) * 3 + c] == want;
+                }
+        rt_mem_free(f.acc, f.acc_bytes);
+        free(f.trace);
+    }
+    CHECK(right);
+    CHECK(seen[0] == 1 && seen[1] == 1 && seen[2] == 1);
+    CHECK_EQ_INT(a.in_flight, 0);
+    CHECK_EQ_INT(a.in_flight_peak, 3);
+    free(units);
+    rt_assembly_free(&a);
+}
+
 int main(void)
 {
     run(1, 1, 0, 0, 0);   /* in order */
@@ -197,5 +261,6 @@ int main(void)
     }
     rt_assembly_free(&a);
     free(acc);
+    frames_case();
     CHECK_DONE();
 }

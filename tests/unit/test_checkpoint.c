@@ -72,11 +72,10 @@ int main(void)
     OTHER("(first frame 0,", first, 1);
     OTHER("(last frame 0,", last, 3);
     OTHER("(frame step 0,", step, 2);
-    OTHER("(frame 0,", frame, 5);
     OTHER("(turntable frames 0,", turn_frames, 48);
     OTHER("(turntable degrees (bits) 0,", turn_degrees, 360.0);
 #undef OTHER
-    CHECK_EQ_INT(n_others, 21); /* every field rt_ckpt_read compares */
+    CHECK_EQ_INT(n_others, 20); /* every field rt_ckpt_read compares */
     for (size_t k = 0; k < n_others; k++) {
         why[0] = 0;
         CHECK_EQ_INT(rt_ckpt_read(path, &others[k].id, done2, back, &n, why, sizeof why), RT_EMISMATCH);
@@ -87,7 +86,8 @@ int main(void)
     }
     CHECK_EQ_INT(rt_ckpt_check(path, &job, why, sizeof why), RT_OK);
 
-    /* A frame job's checkpoint names the frame it holds. */
+    /* A frame job's checkpoint names the frames it holds, each with its
+     * rows' counts and sums (format 8: several frames in flight). */
     {
         rt_ckpt_id fr = job;
         fr.frame_job = 1, fr.first = 2, fr.last = 8, fr.step = 3, fr.frame = 5;
@@ -95,14 +95,43 @@ int main(void)
         char fpath[600];
         snprintf(fpath, sizeof fpath, "%s/frames.ckpt", dir);
         CHECK_EQ_INT(rt_ckpt_write(fpath, &fr, done, acc), RT_OK);
-        uint32_t frame = 0;
-        CHECK_EQ_INT(rt_ckpt_frame(fpath, &frame, why, sizeof why), RT_OK);
-        CHECK_EQ_INT(frame, 5);
+        uint32_t frames[4] = {0}, nf = 0;
+        CHECK_EQ_INT(rt_ckpt_frames(fpath, &nf, frames, 4, why, sizeof why), RT_OK);
+        CHECK_EQ_INT(nf, 1);
+        CHECK_EQ_INT(frames[0], 5);
         CHECK_EQ_INT(rt_ckpt_check(fpath, &fr, why, sizeof why), RT_OK);
         CHECK_EQ_INT(rt_ckpt_read(fpath, &fr, done2, back, &n, why, sizeof why), RT_OK);
         CHECK(memcmp(done, done2, sizeof done) == 0);
-        CHECK_EQ_INT(rt_ckpt_frame(path, &frame, why, sizeof why), RT_OK); /* one image's: frame 0 */
-        CHECK_EQ_INT(frame, 0);
+        CHECK_EQ_INT(rt_ckpt_frames(path, &nf, frames, 4, why, sizeof why), RT_OK); /* one image's: frame 0 */
+        CHECK_EQ_INT(nf, 1);
+        CHECK_EQ_INT(frames[0], 0);
+        /* two frames: 8 and 2, the second with its own counts and sums */
+        int64_t acc2[5 * 7 * 3], back2[5 * 7 * 3];
+        for (int i = 0; i < 5 * 7 * 3; i++)
+            acc2[i] = -(int64_t)i * 77 + 3;
+        uint32_t two[14], two_back[14];
+        for (int y = 0; y < 7; y++)
+            two[y] = done[y], two[7 + y] = (uint32_t)(y % 3) * 4;
+        const uint32_t numbers[2] = {8, 2};
+        const int64_t *const accs[2] = {acc, acc2};
+        CHECK_EQ_INT(rt_ckpt_write_frames(fpath, &fr, 2, numbers, two, accs), RT_OK);
+        CHECK_EQ_INT(rt_ckpt_frames(fpath, &nf, frames, 4, why, sizeof why), RT_OK);
+        CHECK_EQ_INT(nf, 2);
+        CHECK_EQ_INT(frames[0], 8);
+        CHECK_EQ_INT(frames[1], 2);
+        CHECK_EQ_INT(rt_ckpt_frames(fpath, &nf, frames, 1, why, sizeof why), RT_EFORMAT); /* no room */
+        CHECK_EQ_INT(rt_ckpt_read(fpath, &fr, done2, back, &n, why, sizeof why), RT_EFORMAT); /* not one frame */
+        memset(back2, 0x55, sizeof back2);
+        int64_t *const outs[2] = {back, back2};
+        CHECK_EQ_INT(rt_ckpt_read_frames(fpath, &fr, 2, two_back, outs, &n, why, sizeof why), RT_OK);
+        CHECK(memcmp(two, two_back, sizeof two) == 0);
+        CHECK_EQ_INT(n, 3); /* complete rows: frame 8's three */
+        int both = 1;
+        for (uint32_t y = 0; y < H; y++)
+            for (uint32_t i = 0; i < W * 3; i++)
+                both &= back[y * W * 3 + i] == (done[y] ? acc[y * W * 3 + i] : 0) &&
+                        back2[y * W * 3 + i] == (two[7 + y] ? acc2[y * W * 3 + i] : 0);
+        CHECK(both);
         unlink(fpath);
     }
 

@@ -129,5 +129,38 @@ int main(void)
     free(seen);
     rt_ledger_free(&L);
     rt_sched_free(&s);
+    /* A frame job's cap: once the units of the first two frames are out,
+     * take says "not yet" (-1), not "none left" (0), until a frame is
+     * complete and released; frame_done follows the reports. */
+    {
+        rt_job fj = job;
+        fj.height = 4 * 5; /* 5 frames of 4 rows */
+        rt_sched_params fp = {.band = 2, .max_band = 4, .ranks = 2, .units_per_rank = 8, .min_samples = 1,
+                              .passes = 1, .split = RT_SPLIT_COLUMNS, .frame_rows = 4, .frames_cap = 2};
+        rt_sched fs;
+        rt_ledger FL;
+        CHECK_EQ_INT(rt_sched_init(&fs, &fj, &fp, NULL), RT_OK);
+        CHECK_EQ_INT(rt_ledger_init(&FL, &fs, 2), RT_OK);
+        CHECK_EQ_INT(fs.n_units, 10);
+        rt_unit got[4], v;
+        for (int k = 0; k < 4; k++)
+            CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 1, &got[k]), 1);
+        CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 1, &v), -1);
+        CHECK_EQ_INT(got[3].y1, 8); /* frames 0 and 1, no further */
+        CHECK(!rt_ledger_frame_done(&FL, 0));
+        for (int k = 0; k < 2; k++) {
+            CHECK(rt_ledger_done(&FL, 1, got[k].id));
+            CHECK(rt_ledger_in(&FL, 1, got[k].id));
+            rt_sched_commit(&fs, &got[k]);
+        }
+        CHECK(rt_ledger_frame_done(&FL, 0));
+        CHECK(!rt_ledger_frame_done(&FL, 1));
+        CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 0, &v), -1); /* complete, not released */
+        rt_sched_release(&fs, 0);
+        CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 0, &v), 1);
+        CHECK_EQ_INT(v.y0, 8); /* frame 2's */
+        rt_ledger_free(&FL);
+        rt_sched_free(&fs);
+    }
     CHECK_DONE();
 }

@@ -93,6 +93,80 @@ static plan P(uint32_t h, uint32_t s, uint32_t band, uint32_t ranks, uint32_t pe
     return p;
 }
 
+/* A frame job (issue 37): 6 frames of 13 rows as one schedule of 78 rows.
+ * Units never cross a frame, for any band, rank count or split, and cover
+ * every sample once; guided sizes shrink towards the end of the range, not
+ * of each frame; the cap: a unit of frame k is ready only while every
+ * frame before k - 2 + 1 is released, and releasing a complete frame
+ * readies the next one. */
+static void frames_cases(void)
+{
+    const uint32_t H = 13, F = 6, S = 6;
+    uint32_t bands[] = {0, 1, 5, 16}, ranks[] = {1, 3, 64, 1000}, max_rows;
+    for (size_t b = 0; b < sizeof bands / sizeof *bands; b++)
+        for (size_t r = 0; r < sizeof ranks / sizeof *ranks; r++)
+            for (int split = RT_SPLIT_COLUMNS; split <= RT_SPLIT_SAMPLES; split++) {
+                plan p = P(H * F, S, bands[b], ranks[r], 8, 1);
+                p.job.width = 64;
+                p.p.min_cols = 4;
+                p.p.split = split;
+                p.p.frame_rows = H;
+                rt_sched s;
+                CHECK_EQ_INT(rt_sched_init(&s, &p.job, &p.p, NULL), RT_OK);
+                uint32_t crossing = 0;
+                for (uint32_t i = 0; i < s.n_units; i++)
+                    crossing += s.units[i].y0 / H != (s.units[i].y1 - 1) / H;
+                CHECK_EQ_INT(crossing, 0);
+                CHECK_EQ_INT(s.frames, F);
+                CHECK(covers_once(&s, H * F, S, NULL, &max_rows));
+                for (uint32_t k = 0; k < F; k++)
+                    CHECK(rt_sched_frame_complete(&s, k));
+                rt_sched_free(&s);
+            }
+    /* guided over the whole range (6 frames of 100 rows): frame 0 starts
+     * with full bands, single rows come only in the last frame (but a
+     * frame's last row cut off by the frame's end) */
+    plan g = P(100 * F, S, 0, 2, 8, 1);
+    g.p.frame_rows = 100;
+    rt_sched s;
+    CHECK_EQ_INT(rt_sched_init(&s, &g.job, &g.p, NULL), RT_OK);
+    CHECK_EQ_INT(s.units[0].y1 - s.units[0].y0, 16);
+    uint32_t single_early = 0, single = 0;
+    for (uint32_t i = 0; i < s.n_units; i++) {
+        single += s.units[i].y1 - s.units[i].y0 == 1;
+        single_early += s.units[i].y1 - s.units[i].y0 == 1 && s.units[i].y0 / 100 < F - 1 &&
+                        s.units[i].y1 % 100 != 0; /* a frame's last row, cut off, aside */
+    }
+    CHECK_EQ_INT(single_early, 0);
+    CHECK(single > 0);
+    rt_sched_free(&s);
+    /* the cap */
+    plan c = P(H * F, S, 5, 1, 8, 1);
+    c.p.frame_rows = H;
+    c.p.frames_cap = 2;
+    CHECK_EQ_INT(rt_sched_init(&s, &c.job, &c.p, NULL), RT_OK);
+    uint32_t ready[6] = {0}, blocked[6] = {0};
+    for (uint32_t i = 0; i < s.n_units; i++)
+        (rt_sched_ready(&s, &s.units[i]) ? ready : blocked)[s.units[i].y0 / H]++;
+    CHECK_EQ_INT(blocked[0] + blocked[1], 0);
+    CHECK_EQ_INT(ready[2] + ready[3] + ready[4] + ready[5], 0);
+    rt_unit u;
+    while (rt_sched_next(&s, &u) && u.y0 < 2 * H) /* frames 0 and 1, all of them */
+        rt_sched_commit(&s, &u);
+    CHECK(rt_sched_frame_complete(&s, 1));
+    rt_sched_release(&s, 1); /* complete but frame 0 is not released: no move */
+    CHECK(!rt_sched_ready(&s, &u));
+    CHECK_EQ_INT(s.low, 0);
+    rt_sched_release(&s, 0);
+    CHECK_EQ_INT(s.low, 2);
+    CHECK(rt_sched_ready(&s, &u)); /* frame 2's */
+    const rt_unit f4 = {.y0 = 4 * H, .y1 = 4 * H + 1};
+    CHECK(!rt_sched_ready(&s, &f4));
+    rt_sched_release(&s, 2); /* not complete: ignored */
+    CHECK_EQ_INT(s.low, 2);
+    rt_sched_free(&s);
+}
+
 int main(void)
 {
     const uint32_t H = 97, S = 10;
@@ -201,5 +275,7 @@ int main(void)
     rt_sched_free(&s);
     plan none = P(0, 4, 1, 1, 8, 1);
     CHECK_EQ_INT(rt_sched_init(&s, &none.job, &none.p, NULL), RT_EINVAL);
+
+    frames_cases();
     CHECK_DONE();
 }

@@ -34,7 +34,7 @@ static int by_arrival(const void *x, const void *y)
 static double assemble_once(uint32_t ranks, uint32_t band, uint32_t *units)
 {
     const rt_job job = {3840, 2160, 1000, 8, 1, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, RT_LIGHT_MIS};
-    const rt_sched_params p = {band, 16, ranks, 16, 1, 1, 16, RT_SPLIT_COLUMNS};
+    const rt_sched_params p = {band, 16, ranks, 16, 1, 1, 16, RT_SPLIT_COLUMNS, 0, 0};
     int64_t *acc = calloc((size_t)job.width * job.height * 3, sizeof *acc);
     int64_t *zero = calloc((size_t)job.width * 3, sizeof *zero);
     rt_assembly a;
