@@ -357,6 +357,8 @@ size_t rt_world_bytes(const rt_world *w)
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
 
+int rt_world_uses_avx(const rt_world *w) { return RT_BVH_HAVE_AVX && w->n_nodes && w->mode == RT_WORLD_BVH; }
+
 /* Turns every medium's hull quads outward (rt_world_medium_span clips the
  * line by their planes): the normal and offset of a quad whose plane has
  * the hull's centre (the mean of its faces' centres) on its outer side
