@@ -54,11 +54,16 @@ int rt_accel_new_span(rt_accel **out, const rt_scene *s, rt_accel_kind kind, dou
     a->kind = kind;
     a->scene = s;
     int st = RT_OK;
+    /* A book-2 scene's static spheres are in the world's tree, which is
+     * what its path loop walks: no sphere BVH (rt_accel_closest answers
+     * by brute force, which finds the same hits). */
+    const int book2 = rt_scene_is_book2(s);
     switch (kind) {
     case RT_ACCEL_BVH:
     case RT_ACCEL_BVH_SCALAR:
     case RT_ACCEL_BVH_SSE:
-        st = rt_bvh_build(&a->bvh, s);
+        if (!book2)
+            st = rt_bvh_build(&a->bvh, s);
         break;
     case RT_ACCEL_BRUTE:
         break;
@@ -72,7 +77,7 @@ int rt_accel_new_span(rt_accel **out, const rt_scene *s, rt_accel_kind kind, dou
     default:
         st = RT_EINVAL;
     }
-    if (!st && rt_scene_is_book2(s))
+    if (!st && book2)
         st = rt_world_build(&a->world, s, world_mode(kind), t_lo, t_hi);
     if (!st && a->world)
         st = rt_lights_build(&a->lights, s, RT_LIGHTS_RULE);
@@ -115,7 +120,7 @@ static int brute_closest(const rt_scene *s, const rt_ray *ray, double tmin, doub
 
 int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double tmax, rt_hit *hit)
 {
-    switch (a->kind) {
+    switch (a->bvh || a->kind == RT_ACCEL_EMBREE ? a->kind : RT_ACCEL_BRUTE) {
     case RT_ACCEL_BVH:
         return rt_bvh_closest(a->bvh, ray, tmin, tmax, hit);
     case RT_ACCEL_BVH_SCALAR:
@@ -178,6 +183,8 @@ const char *rt_accel_box_test(const rt_accel *a)
     const char *baseline = RT_BVH_HAVE_SSE2 ? "sse2" : "portable";
     switch (a->kind) {
     case RT_ACCEL_BVH:
+        if (!a->bvh) /* a book-2 scene: the world's tree */
+            return a->world && rt_world_uses_avx(a->world) ? "avx" : baseline;
         return rt_bvh_uses_avx(a->bvh) ? "avx" : baseline;
     case RT_ACCEL_BVH_SSE:
         return baseline;
@@ -190,7 +197,7 @@ const char *rt_accel_box_test(const rt_accel *a)
 
 const struct rt_bvh *rt_accel_bvh_avx(const rt_accel *a)
 {
-    return a->kind == RT_ACCEL_BVH && rt_bvh_uses_avx(a->bvh) ? a->bvh : NULL;
+    return a->kind == RT_ACCEL_BVH && a->bvh && rt_bvh_uses_avx(a->bvh) ? a->bvh : NULL;
 }
 
 const struct rt_bvh *rt_accel_bvh(const rt_accel *a)

@@ -42,8 +42,8 @@ int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double t
  * when unknown). */
 const char *rt_accel_name(rt_accel_kind kind);
 int rt_accel_parse(const char *name);
-/* The box test our BVH runs in a ("avx", "sse2" or "portable"), NULL for
- * the other intersectors. */
+/* The box test our BVH (or, for a book-2 scene, the world's tree) runs in
+ * a ("avx", "sse2" or "portable"), NULL for the other intersectors. */
 const char *rt_accel_box_test(const rt_accel *a);
 /* Our BVH inside a when a runs it with the AVX box test (the bvh kind on a
  * CPU with AVX), else NULL: for code compiled for AVX that calls
@@ -57,8 +57,10 @@ const struct rt_world *rt_accel_world(const rt_accel *a);
 const struct rt_lights *rt_accel_lights(const rt_accel *a);
 /* Bytes the structure occupies (for the memory report). */
 size_t rt_accel_bytes(const rt_accel *a);
-/* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds), else NULL: for tests and
- * benchmarks that query it directly (rt_bvh_closest_counted). */
+/* Our BVH inside a (the bvh, bvh-scalar and bvh-sse kinds, for scenes
+ * without book-2 content: the world's tree holds a book-2 scene's spheres),
+ * else NULL: for tests and benchmarks that query it directly
+ * (rt_bvh_closest_counted). */
 const struct rt_bvh *rt_accel_bvh(const rt_accel *a);
 
 #endif

@@ -132,6 +132,77 @@ static inline __attribute__((always_inline, target("avx"))) int fbox_avx(const f
 }
 #endif
 
+/* The same test without choosing the planes by the direction's signs: each
+ * axis's two plane distances, ordered by min and max. For a box with
+ * bmin <= bmax and a nonzero inverse direction (safe_inv's) the lesser is
+ * exactly the near plane's distance of the tests above (float subtraction
+ * and multiplication are monotonic), so these find the same children at
+ * the same entry distances; a walk saves choosing and keeping the six rows
+ * (the world's, world_traverse.h, whose rays are mostly short bounces).
+ * Empty slots (bmin +inf, bmax -inf) may read as entered: callers mask
+ * them out with the node's slots in use. */
+static inline __attribute__((always_inline)) int fbox_mm_portable(const float (*rows)[FBOX_WIDTH], const float fo[3],
+                                                                  const float fi[3], float tmin_f, float tfar_f,
+                                                                  float tn[FBOX_WIDTH])
+{
+    int mask = 0;
+    for (int k = 0; k < FBOX_WIDTH; k++) {
+        float near = tmin_f, far = tfar_f;
+        for (int a = 0; a < 3; a++) {
+            const float t0 = (rows[a][k] - fo[a]) * fi[a], t1 = (rows[a + 3][k] - fo[a]) * fi[a];
+            const float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+            near = lo > near ? lo : near;
+            far = hi < far ? hi : far;
+        }
+        tn[k] = near;
+        mask |= (near <= far) << k;
+    }
+    return mask;
+}
+
+#if RT_BVH_HAVE_SSE2
+static inline __attribute__((always_inline)) int fbox_mm_sse(const float (*rows)[FBOX_WIDTH], const fbox_ray4 *v,
+                                                             float tfar_f, float tn[FBOX_WIDTH])
+{
+    int mask = 0;
+    for (int h = 0; h < FBOX_WIDTH; h += 4) {
+        __m128 ax = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[0] + h), v->ox), v->ix);
+        __m128 ay = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[1] + h), v->oy), v->iy);
+        __m128 az = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[2] + h), v->oz), v->iz);
+        __m128 bx = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[3] + h), v->ox), v->ix);
+        __m128 by = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[4] + h), v->oy), v->iy);
+        __m128 bz = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(rows[5] + h), v->oz), v->iz);
+        __m128 vn = _mm_max_ps(_mm_max_ps(_mm_min_ps(ax, bx), _mm_min_ps(ay, by)),
+                               _mm_max_ps(_mm_min_ps(az, bz), v->tmin));
+        __m128 vf = _mm_min_ps(_mm_min_ps(_mm_max_ps(ax, bx), _mm_max_ps(ay, by)),
+                               _mm_min_ps(_mm_max_ps(az, bz), _mm_set1_ps(tfar_f)));
+        mask |= _mm_movemask_ps(_mm_cmple_ps(vn, vf)) << h;
+        _mm_storeu_ps(tn + h, vn);
+    }
+    return mask;
+}
+#endif
+
+#if RT_BVH_HAVE_AVX
+static inline __attribute__((always_inline, target("avx"))) int fbox_mm_avx(const float (*rows)[FBOX_WIDTH],
+                                                                            const fbox_ray8 *v, float tfar_f,
+                                                                            float tn[FBOX_WIDTH])
+{
+    __m256 ax = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[0]), v->ox), v->ix);
+    __m256 ay = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[1]), v->oy), v->iy);
+    __m256 az = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[2]), v->oz), v->iz);
+    __m256 bx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[3]), v->ox), v->ix);
+    __m256 by = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[4]), v->oy), v->iy);
+    __m256 bz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[5]), v->oz), v->iz);
+    __m256 vn = _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(ax, bx), _mm256_min_ps(ay, by)),
+                              _mm256_max_ps(_mm256_min_ps(az, bz), v->tmin));
+    __m256 vf = _mm256_min_ps(_mm256_min_ps(_mm256_max_ps(ax, bx), _mm256_max_ps(ay, by)),
+                              _mm256_min_ps(_mm256_max_ps(az, bz), _mm256_set1_ps(tfar_f)));
+    _mm256_storeu_ps(tn, vn);
+    return _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ));
+}
+#endif
+
 /* The walk's step down a wide node, shared by the sphere tree
  * (bvh_traverse.h) and the world's (world_traverse.h): of the children the
  * box test kept (mask, their entry distances tn), the nearest becomes

@@ -357,6 +357,8 @@ size_t rt_world_bytes(const rt_world *w)
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
 
+int rt_world_uses_avx(const rt_world *w) { return RT_BVH_HAVE_AVX && w->n_nodes && w->mode == RT_WORLD_BVH; }
+
 /* Turns every medium's hull quads outward (rt_world_medium_span clips the
  * line by their planes): the normal and offset of a quad whose plane has
  * the hull's centre (the mean of its faces' centres) on its outer side
@@ -451,24 +453,12 @@ static void sphere_uv(const rt_scene *s, uint32_t frame, rt_vec3 n, double *u, d
     *v = acos(-y) / pi;
 }
 
-void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, double time, int want_uv,
-                      rt_surface *rec, double *u, double *v)
+/* rt_world_surface's spheres, out of line so that the quads' part, the
+ * common one in book 2's boxes, can be inlined into the path loop. */
+static __attribute__((noinline)) void sphere_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray,
+                                                     double time, int want_uv, rt_surface *rec, double *u, double *v)
 {
     const rt_scene *s = w->s;
-    *u = *v = 0.0;
-    if (h->kind == RT_SHAPE_QUAD) {
-        const quad_x *q = &w->quads[h->index];
-        rec->t = h->t;
-        rec->p = rt_ray_at(ray, h->t);
-        rec->front_face = rt_v3_dot(ray->dir, q->n) < 0.0;
-        rec->normal = rec->front_face ? q->n : rt_v3_neg(q->n);
-        if (want_uv) {
-            const rt_vec3 hp = rt_v3_sub(rec->p, q->q);
-            *u = rt_v3_dot(hp, q->ea);
-            *v = rt_v3_dot(hp, q->eb);
-        }
-        return;
-    }
     rt_sphere sp;
     if (h->kind == RT_SHAPE_MOVER) {
         const rt_mover *m = &s->shapes.movers.items[h->index];
@@ -482,4 +472,24 @@ void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, do
     rt_surface_from_sphere(rec, &sp, ray, h->t);
     if (want_uv) /* the outward normal of the solid sphere */
         sphere_uv(s, sp.frame, rt_v3_scale(rt_v3_sub(rec->p, sp.center), 1.0 / fabs(sp.radius)), u, v);
+}
+
+void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, double time, int want_uv,
+                      rt_surface *rec, double *u, double *v)
+{
+    *u = *v = 0.0;
+    if (h->kind != RT_SHAPE_QUAD) {
+        sphere_surface(w, h, ray, time, want_uv, rec, u, v);
+        return;
+    }
+    const quad_x *q = &w->quads[h->index];
+    rec->t = h->t;
+    rec->p = rt_ray_at(ray, h->t);
+    rec->front_face = rt_v3_dot(ray->dir, q->n) < 0.0;
+    rec->normal = rec->front_face ? q->n : rt_v3_neg(q->n);
+    if (want_uv) {
+        const rt_vec3 hp = rt_v3_sub(rec->p, q->q);
+        *u = rt_v3_dot(hp, q->ea);
+        *v = rt_v3_dot(hp, q->eb);
+    }
 }

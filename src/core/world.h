@@ -54,6 +54,8 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
 void rt_world_free(rt_world *w);
 size_t rt_world_bytes(const rt_world *w);
 const rt_perlin *rt_world_perlin(const rt_world *w);
+/* 1 when w's tree runs the AVX box test (RT_WORLD_BVH on a CPU with AVX). */
+int rt_world_uses_avx(const rt_world *w);
 
 /* The closest quad, moving sphere (at the ray's time) or static sphere
  * with tmin < t <= tmax: the least t, of equal ones the quads before the

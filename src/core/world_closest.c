@@ -45,6 +45,26 @@ static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmi
 #endif
 #endif
 
+/* The other walks out of line too, so that rt_world_closest itself stays
+ * a small function (no registers saved, no stack frame for a walk it does
+ * not take) whichever the mode. */
+static __attribute__((noinline)) int walk_base(const rt_world *w, const rt_ray *ray, double time, double tmin,
+                                               double *best_t, uint32_t *best, int simd, int anyhit)
+{
+    return anyhit ? closest_base(w, ray, time, tmin, best_t, best, simd, 1)
+                  : closest_base(w, ray, time, tmin, best_t, best, simd, 0);
+}
+
+static __attribute__((noinline)) int walk_brute(const rt_world *w, const rt_ray *ray, double time, double tmin,
+                                                double *best_t, uint32_t *best, int anyhit)
+{
+    const double a = rt_v3_len2(ray->dir);
+    for (uint32_t i = 0; i < w->nitems; i++)
+        if (rt_world_test_item(w, i, ray, a, time, tmin, best_t, best) && anyhit)
+            return 1;
+    return 0;
+}
+
 /* The hit (*best_t, *best) replaced by any nearer item, or as near and
  * before it, by the mode's walk; with anyhit, returns 1 at the first. */
 static inline __attribute__((always_inline)) int query(const rt_world *w, const rt_ray *ray, double time,
@@ -56,16 +76,11 @@ static inline __attribute__((always_inline)) int query(const rt_world *w, const 
         return anyhit ? any_avx(w, ray, time, tmin, best_t, best) : walk_avx(w, ray, time, tmin, best_t, best);
 #endif
     case RT_WORLD_BVH_SSE:
-        return closest_base(w, ray, time, tmin, best_t, best, RT_BVH_HAVE_SSE2, anyhit);
+        return walk_base(w, ray, time, tmin, best_t, best, RT_BVH_HAVE_SSE2, anyhit);
     case RT_WORLD_BVH_SCALAR:
-        return closest_base(w, ray, time, tmin, best_t, best, 0, anyhit);
-    default: {
-        const double a = rt_v3_len2(ray->dir);
-        for (uint32_t i = 0; i < w->nitems; i++)
-            if (rt_world_test_item(w, i, ray, a, time, tmin, best_t, best) && anyhit)
-                return 1;
-        return 0;
-    }
+        return walk_base(w, ray, time, tmin, best_t, best, 0, anyhit);
+    default:
+        return walk_brute(w, ray, time, tmin, best_t, best, anyhit);
     }
 }
 

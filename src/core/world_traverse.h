@@ -8,8 +8,10 @@
  *
  * The same walk as the spheres' tree (bvh_traverse.h): ordered depth-first,
  * the nearest child hit next, the others pushed far to near with their
- * entry distance, popped entries beyond the closest hit so far dropped; box
- * planes chosen once per ray by the direction's signs. The three box tests
+ * entry distance, popped entries beyond the closest hit so far dropped; each
+ * axis's box planes ordered by min and max (fbox.h's fbox_mm_*: nothing to
+ * set up per ray, which for short bounces costs more than the two extra
+ * operations a plane pair takes). The three box tests
  * do the same float operations in the same order, so they visit the same
  * leaves; the leaves' tests are in double (world_internal.h) and their rule
  * does not depend on the order, so every variant and brute force agree.
@@ -22,9 +24,6 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
     const double a = rt_v3_len2(ray->dir);
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
     const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
-    const int sx = sign_bit(fi[0]), sy = sign_bit(fi[1]), sz = sign_bit(fi[2]);
-    const int nx = 3 * sx, ny = 1 + 3 * sy, nz = 2 + 3 * sz; /* rows of bmin then bmax, as float[6][WWIDTH] */
-    const int rws[6] = {nx, ny, nz, 3 - nx, 5 - ny, 7 - nz}; /* the near planes' rows, then the far ones' */
     const float tmin_f = near_bound(tmin);
     float tfar_f = far_bound(*best_t);
 #if WTRAV_AVX
@@ -54,11 +53,11 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
             float tn[WWIDTH];
             int mask;
 #if WTRAV_AVX
-            mask = fbox_avx(rows, rws, &vr, tfar_f, tn);
+            mask = fbox_mm_avx(rows, &vr, tfar_f, tn);
 #elif RT_BVH_HAVE_SSE2
-            mask = simd ? fbox_sse(rows, rws, &vr, tfar_f, tn) : fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
+            mask = simd ? fbox_mm_sse(rows, &vr, tfar_f, tn) : fbox_mm_portable(rows, fo, fi, tmin_f, tfar_f, tn);
 #else
-            mask = fbox_portable(rows, rws, fo, fi, tmin_f, tfar_f, tn);
+            mask = fbox_mm_portable(rows, fo, fi, tmin_f, tfar_f, tn);
 #endif
             if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp)
                        : fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
