@@ -25,6 +25,8 @@ struct rt_lights {
     light *items;
     double *cdf; /* cdf[i]: the probability of choosing a light before i + 1 */
     uint32_t n;
+    light *targets; /* the glass spheres a diffuse vertex aims at, each with prob 1 / nt */
+    uint32_t nt;
 };
 
 static double luminance(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -71,6 +73,28 @@ static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t 
     }
 }
 
+/* l's targets: the static spheres of glass (their caustics, which only a
+ * path through them finds). Returns nonzero when out of memory. */
+static int targets(rt_lights *l, const rt_scene *s)
+{
+    uint32_t nt = 0;
+    for (uint32_t i = 0; i < s->n_spheres; i++)
+        nt += s->materials[s->spheres[i].material].kind == RT_MAT_DIELECTRIC;
+    if (!nt)
+        return 0;
+    l->targets = malloc(nt * sizeof *l->targets);
+    if (!l->targets)
+        return 1;
+    for (uint32_t i = 0; i < s->n_spheres; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        if (s->materials[sp->material].kind == RT_MAT_DIELECTRIC) {
+            l->targets[l->nt] = sphere_light(RT_SHAPE_SPHERE, i, sp->center, sp->center, sp->radius);
+            l->targets[l->nt++].prob = 1.0 / nt;
+        }
+    }
+    return 0;
+}
+
 int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
 {
     *out = NULL;
@@ -100,6 +124,10 @@ int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
         free(items), free(l), free(cdf);
         return RT_ENOMEM;
     }
+    if (targets(l, s)) {
+        free(items), free(l), free(cdf);
+        return RT_ENOMEM;
+    }
     double total = 0;
     for (uint32_t i = 0; i < n; i++)
         total += rule == RT_LIGHTS_UNIFORM ? 1.0 : items[i].prob;
@@ -123,12 +151,18 @@ void rt_lights_free(rt_lights *l)
         return;
     free(l->items);
     free(l->cdf);
+    free(l->targets);
     free(l);
 }
 
 uint32_t rt_lights_count(const rt_lights *l) { return l ? l->n : 0; }
 
-size_t rt_lights_bytes(const rt_lights *l) { return l ? sizeof *l + l->n * (sizeof *l->items + sizeof *l->cdf) : 0; }
+uint32_t rt_lights_target_count(const rt_lights *l) { return l ? l->nt : 0; }
+
+size_t rt_lights_bytes(const rt_lights *l)
+{
+    return l ? sizeof *l + l->n * (sizeof *l->items + sizeof *l->cdf) + l->nt * sizeof *l->targets : 0;
+}
 
 static int is_quad(const light *L) { return (uint32_t)(L->key >> 32) == RT_SHAPE_QUAD; }
 
@@ -153,6 +187,28 @@ static double quad_pdf(const light *L, rt_vec3 dir, double t)
 {
     const double c = fabs(rt_v3_dot(dir, L->n));
     return c > 0.0 ? t * t / (c * L->area) : 0.0;
+}
+
+/* A direction *dir toward sphere L from p, uniform in the cone it
+ * subtends (its density in *pdf, L's choice included), by the fractions s
+ * and the 32-bit turn t. Returns 0 when p is inside the sphere. */
+static int cone_dir(const light *L, rt_vec3 p, double time, double s, uint32_t t, rt_vec3 *dir, double *pdf)
+{
+    rt_vec3 w;
+    const double omc_max = cone(L, p, time, &w);
+    if (omc_max == 0.0)
+        return 0;
+    /* cos theta uniform in [cos max, 1]: 1 - cos = s (1 - cos max); the
+     * azimuth by turns; a frame around w (Duff et al.'s, branch on sign) */
+    const double omc = s * omc_max, sin_t = sqrt(omc * (2.0 - omc)), cos_t = 1.0 - omc;
+    double cph, sph;
+    rt_sample_cos_sin_turn(t, &cph, &sph);
+    const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
+    const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
+    const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
+    *dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
+    *pdf = L->prob / (2.0 * PI * omc_max);
+    return 1;
 }
 
 int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out)
@@ -182,21 +238,7 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
         out->pdf = L->prob * quad_pdf(L, out->dir, len);
         return 1;
     }
-    rt_vec3 w;
-    const double omc_max = cone(L, p, time, &w);
-    if (omc_max == 0.0)
-        return 0;
-    /* cos theta uniform in [cos max, 1]: 1 - cos = s (1 - cos max); the
-     * azimuth by turns; a frame around w (Duff et al.'s, branch on sign) */
-    const double omc = s * omc_max, sin_t = sqrt(omc * (2.0 - omc)), cos_t = 1.0 - omc;
-    double cph, sph;
-    rt_sample_cos_sin_turn((uint32_t)u2, &cph, &sph);
-    const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
-    const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
-    const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
-    out->dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
-    out->pdf = L->prob / (2.0 * PI * omc_max);
-    return 1;
+    return cone_dir(L, p, time, s, (uint32_t)u2, &out->dir, &out->pdf);
 }
 
 double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
@@ -219,4 +261,23 @@ double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, ui
     rt_vec3 w;
     const double omc_max = cone(L, p, time, &w);
     return omc_max > 0.0 ? L->prob / (2.0 * PI * omc_max) : 0.0;
+}
+
+int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t a, uint32_t b, rt_vec3 *dir)
+{
+    const uint64_t x = (uint64_t)a * l->nt; /* the target: x's high word; its low word, a fraction left */
+    double pdf;
+    return cone_dir(&l->targets[x >> 32], p, time, rt_warp_unit((uint32_t)x), b, dir, &pdf);
+}
+
+double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir)
+{
+    double sum = 0;
+    for (uint32_t i = 0; i < l->nt; i++) {
+        rt_vec3 w;
+        const double omc_max = cone(&l->targets[i], p, time, &w);
+        if (omc_max > 0.0 && 1.0 - rt_v3_dot(dir, w) <= omc_max)
+            sum += l->targets[i].prob / (2.0 * PI * omc_max);
+    }
+    return sum;
 }
