@@ -19,6 +19,7 @@ typedef struct light {
     double area;          /* quad */
     double prob;          /* of being chosen */
     double emit;          /* luminance of its emission */
+    int one_sided;        /* quad: emits from its front face only (the side n points to) */
 } light;
 
 struct rt_lights {
@@ -50,7 +51,7 @@ static double exitance(const rt_scene *s, uint32_t material)
 
 static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
 {
-    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0};
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0};
     L.area = 4.0 * PI * radius * radius;
     return L;
 }
@@ -58,7 +59,7 @@ static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1,
 static light quad_light(uint32_t index, const rt_quad *q)
 {
     const rt_vec3 n = rt_v3_cross(q->u, q->v);
-    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0};
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0};
     return L;
 }
 
@@ -69,6 +70,7 @@ static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t 
     if (exit > 0.0 && L.area > 0.0) {
         L.prob = exit * L.area;
         L.emit = radiance(s, material);
+        L.one_sided = !(s->materials[material].flags & RT_MAT_TWO_SIDED);
         items[(*n)++] = L;
     }
 }
@@ -231,9 +233,9 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
     if (is_quad(L)) {
         const rt_vec3 x = rt_v3_madd(rt_v3_madd(L->a, L->b, s), L->c, rt_warp_unit((uint32_t)u2));
         const rt_vec3 d = rt_v3_sub(x, p);
-        const double len = rt_v3_len(d);
-        if (!(len > 0.0) || rt_v3_dot(d, L->n) == 0.0)
-            return 0;
+        const double len = rt_v3_len(d), facing = rt_v3_dot(d, L->n);
+        if (!(len > 0.0) || facing == 0.0 || (L->one_sided && facing > 0.0))
+            return 0; /* p in its plane, or behind a face that emits nothing toward it: no shadow ray */
         out->dir = rt_v3_scale(d, 1.0 / len);
         out->pdf = L->prob * quad_pdf(L, out->dir, len);
         return 1;
@@ -274,10 +276,15 @@ double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 
 {
     double sum = 0;
     for (uint32_t i = 0; i < l->nt; i++) {
+        const light *L = &l->targets[i];
+        const rt_vec3 d = rt_v3_sub(centre(L, time), p);
+        const double b = rt_v3_dot(dir, d), r = L->c.x;
+        if (!(b > 0.0) || b * b < rt_v3_len2(dir) * (rt_v3_len2(d) - r * r))
+            continue; /* the line misses the sphere (or points away): no sqrt for most directions */
         rt_vec3 w;
-        const double omc_max = cone(&l->targets[i], p, time, &w);
-        if (omc_max > 0.0 && 1.0 - rt_v3_dot(dir, w) <= omc_max)
-            sum += l->targets[i].prob / (2.0 * PI * omc_max);
+        const double omc_max = cone(L, p, time, &w);
+        if (omc_max > 0.0)
+            sum += L->prob / (2.0 * PI * omc_max);
     }
     return sum;
 }

@@ -49,7 +49,8 @@ uint32_t rt_lights_target_count(const rt_lights *l);
 int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t a, uint32_t b, rt_vec3 *dir);
 
 /* The density (per unit solid angle, the target's choice included) with
- * which rt_lights_target_sample gives unit direction dir from p. */
+ * which rt_lights_target_sample gives the direction of dir (any length)
+ * from p: a sum over the targets whose sphere the line meets. */
 double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir);
 
 #endif
@@ -73,7 +74,8 @@ typedef struct rt_light_dir {
 /* A light to sample from point p at time `time`: chosen by u in [0, 1),
  * a direction toward it by the 2D number u2 (warp.h's two fractions).
  * Returns 1 with *out, 0 when the chosen light offers no direction from p
- * (p inside its sphere, or in its quad's plane). */
+ * (p inside its sphere, in its quad's plane, or behind a quad that emits
+ * from its front face only: its light could not reach p). */
 int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out);
 
 /* The density (per unit solid angle, the light's choice included) with
@@ -98,7 +100,8 @@ uint32_t rt_lights_target_count(const rt_lights *l);
 int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t a, uint32_t b, rt_vec3 *dir);
 
 /* The density (per unit solid angle, the target's choice included) with
- * which rt_lights_target_sample gives unit direction dir from p. */
+ * which rt_lights_target_sample gives the direction of dir (any length)
+ * from p: a sum over the targets whose sphere the line meets. */
 double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir);
 
 #endif

@@ -85,7 +85,7 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
 #define RT_NEE_AIM_SLOTS 8u
 #endif
 
-/* The density of a lambertian vertex's scattered direction dir (unit)
+/* The density of a lambertian vertex's scattered direction dir (any length)
  * from p, whose cosine density is pdf_cos: the mixture rt_nee_scatter
  * draws from. */
 static double scatter_pdf(const rt_renderer *r, rt_vec3 p, rt_vec3 dir, double time, double pdf_cos)
@@ -111,16 +111,14 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
     const uint64_t x = (uint64_t)(uint32_t)(u >> 32) * slots;
     const uint32_t slot = (uint32_t)(x >> 32), rest = (uint32_t)x;
     rt_vec3 d;
+    double c;
     if (slot + 1 < slots) {
         const uint64_t a = (((uint64_t)slot << 32) | rest) / (slots - 1);
         d = rt_warp_cosine(a << 32 | (uint32_t)u, n);
         if (rt_v3_near_zero(d))
             d = n;
-        d = rt_v3_unit(d);
-    } else if (!rt_lights_target_sample(r->lights, p, time, rest, (uint32_t)u, &d))
-        return 0.0;
-    const double c = rt_v3_dot(d, n);
-    if (!(c > 0.0))
+        c = rt_v3_dot(d, n) / rt_v3_len(d);
+    } else if (!rt_lights_target_sample(r->lights, p, time, rest, (uint32_t)u, &d) || !((c = rt_v3_dot(d, n)) > 0.0))
         return 0.0;
     *dir = d;
     *pdf = scatter_pdf(r, p, d, time, c / PI);
