@@ -274,17 +274,16 @@ int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t
 
 double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir)
 {
+    (void)time; /* the targets are static spheres: centre a */
     double sum = 0;
     for (uint32_t i = 0; i < l->nt; i++) {
         const light *L = &l->targets[i];
-        const rt_vec3 d = rt_v3_sub(centre(L, time), p);
-        const double b = rt_v3_dot(dir, d), r = L->c.x;
-        if (!(b > 0.0) || b * b < rt_v3_len2(dir) * (rt_v3_len2(d) - r * r))
-            continue; /* the line misses the sphere (or points away): no sqrt for most directions */
-        rt_vec3 w;
-        const double omc_max = cone(L, p, time, &w);
-        if (omc_max > 0.0)
-            sum += L->prob / (2.0 * PI * omc_max);
+        const rt_vec3 d = rt_v3_sub(L->a, p);
+        const double b = rt_v3_dot(dir, d), r2 = L->c.x * L->c.x, d2 = rt_v3_len2(d);
+        if (!(b > 0.0) || b * b < rt_v3_len2(dir) * (d2 - r2) || !(d2 > r2))
+            continue; /* the line misses the sphere (or points away), or p is inside it */
+        const double sin2 = r2 / d2; /* cone()'s 1 - cos max, without its axis */
+        sum += L->prob / (2.0 * PI * (sin2 / (1.0 + sqrt(1.0 - sin2))));
     }
     return sum;
 }
