@@ -19,12 +19,15 @@ typedef struct light {
     double area;          /* quad */
     double prob;          /* of being chosen */
     double emit;          /* luminance of its emission */
+    int one_sided;        /* quad: emits from its front face only (the side n points to) */
 } light;
 
 struct rt_lights {
     light *items;
     double *cdf; /* cdf[i]: the probability of choosing a light before i + 1 */
     uint32_t n;
+    light *targets; /* the glass spheres a diffuse vertex aims at, each with prob 1 / nt */
+    uint32_t nt;
 };
 
 static double luminance(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
@@ -48,7 +51,7 @@ static double exitance(const rt_scene *s, uint32_t material)
 
 static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
 {
-    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0};
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0};
     L.area = 4.0 * PI * radius * radius;
     return L;
 }
@@ -56,7 +59,7 @@ static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1,
 static light quad_light(uint32_t index, const rt_quad *q)
 {
     const rt_vec3 n = rt_v3_cross(q->u, q->v);
-    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0};
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0};
     return L;
 }
 
@@ -67,8 +70,31 @@ static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t 
     if (exit > 0.0 && L.area > 0.0) {
         L.prob = exit * L.area;
         L.emit = radiance(s, material);
+        L.one_sided = !(s->materials[material].flags & RT_MAT_TWO_SIDED);
         items[(*n)++] = L;
     }
+}
+
+/* l's targets: the static spheres of glass (their caustics, which only a
+ * path through them finds). Returns nonzero when out of memory. */
+static int targets(rt_lights *l, const rt_scene *s)
+{
+    uint32_t nt = 0;
+    for (uint32_t i = 0; i < s->n_spheres; i++)
+        nt += s->materials[s->spheres[i].material].kind == RT_MAT_DIELECTRIC;
+    if (!nt)
+        return 0;
+    l->targets = malloc(nt * sizeof *l->targets);
+    if (!l->targets)
+        return 1;
+    for (uint32_t i = 0; i < s->n_spheres; i++) {
+        const rt_sphere *sp = &s->spheres[i];
+        if (s->materials[sp->material].kind == RT_MAT_DIELECTRIC) {
+            l->targets[l->nt] = sphere_light(RT_SHAPE_SPHERE, i, sp->center, sp->center, sp->radius);
+            l->targets[l->nt++].prob = 1.0 / nt;
+        }
+    }
+    return 0;
 }
 
 int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
@@ -100,6 +126,10 @@ int rt_lights_build(rt_lights **out, const rt_scene *s, rt_lights_rule rule)
         free(items), free(l), free(cdf);
         return RT_ENOMEM;
     }
+    if (targets(l, s)) {
+        free(items), free(l), free(cdf);
+        return RT_ENOMEM;
+    }
     double total = 0;
     for (uint32_t i = 0; i < n; i++)
         total += rule == RT_LIGHTS_UNIFORM ? 1.0 : items[i].prob;
@@ -123,12 +153,18 @@ void rt_lights_free(rt_lights *l)
         return;
     free(l->items);
     free(l->cdf);
+    free(l->targets);
     free(l);
 }
 
 uint32_t rt_lights_count(const rt_lights *l) { return l ? l->n : 0; }
 
-size_t rt_lights_bytes(const rt_lights *l) { return l ? sizeof *l + l->n * (sizeof *l->items + sizeof *l->cdf) : 0; }
+uint32_t rt_lights_target_count(const rt_lights *l) { return l ? l->nt : 0; }
+
+size_t rt_lights_bytes(const rt_lights *l)
+{
+    return l ? sizeof *l + l->n * (sizeof *l->items + sizeof *l->cdf) + l->nt * sizeof *l->targets : 0;
+}
 
 static int is_quad(const light *L) { return (uint32_t)(L->key >> 32) == RT_SHAPE_QUAD; }
 
@@ -155,6 +191,28 @@ static double quad_pdf(const light *L, rt_vec3 dir, double t)
     return c > 0.0 ? t * t / (c * L->area) : 0.0;
 }
 
+/* A direction *dir toward sphere L from p, uniform in the cone it
+ * subtends (its density in *pdf, L's choice included), by the fractions s
+ * and the 32-bit turn t. Returns 0 when p is inside the sphere. */
+static int cone_dir(const light *L, rt_vec3 p, double time, double s, uint32_t t, rt_vec3 *dir, double *pdf)
+{
+    rt_vec3 w;
+    const double omc_max = cone(L, p, time, &w);
+    if (omc_max == 0.0)
+        return 0;
+    /* cos theta uniform in [cos max, 1]: 1 - cos = s (1 - cos max); the
+     * azimuth by turns; a frame around w (Duff et al.'s, branch on sign) */
+    const double omc = s * omc_max, sin_t = sqrt(omc * (2.0 - omc)), cos_t = 1.0 - omc;
+    double cph, sph;
+    rt_sample_cos_sin_turn(t, &cph, &sph);
+    const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
+    const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
+    const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
+    *dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
+    *pdf = L->prob / (2.0 * PI * omc_max);
+    return 1;
+}
+
 int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out)
 {
     uint32_t lo = 0, hi = l->n - 1; /* the first light whose cdf passes u */
@@ -175,28 +233,14 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
     if (is_quad(L)) {
         const rt_vec3 x = rt_v3_madd(rt_v3_madd(L->a, L->b, s), L->c, rt_warp_unit((uint32_t)u2));
         const rt_vec3 d = rt_v3_sub(x, p);
-        const double len = rt_v3_len(d);
-        if (!(len > 0.0) || rt_v3_dot(d, L->n) == 0.0)
-            return 0;
+        const double len = rt_v3_len(d), facing = rt_v3_dot(d, L->n);
+        if (!(len > 0.0) || facing == 0.0 || (L->one_sided && facing > 0.0))
+            return 0; /* p in its plane, or behind a face that emits nothing toward it: no shadow ray */
         out->dir = rt_v3_scale(d, 1.0 / len);
         out->pdf = L->prob * quad_pdf(L, out->dir, len);
         return 1;
     }
-    rt_vec3 w;
-    const double omc_max = cone(L, p, time, &w);
-    if (omc_max == 0.0)
-        return 0;
-    /* cos theta uniform in [cos max, 1]: 1 - cos = s (1 - cos max); the
-     * azimuth by turns; a frame around w (Duff et al.'s, branch on sign) */
-    const double omc = s * omc_max, sin_t = sqrt(omc * (2.0 - omc)), cos_t = 1.0 - omc;
-    double cph, sph;
-    rt_sample_cos_sin_turn((uint32_t)u2, &cph, &sph);
-    const double sign = w.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sign + w.z), b = w.x * w.y * a;
-    const rt_vec3 t1 = rt_v3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
-    const rt_vec3 t2 = rt_v3(b, sign + w.y * w.y * a, -w.y);
-    out->dir = rt_v3_add(rt_v3_scale(w, cos_t), rt_v3_add(rt_v3_scale(t1, sin_t * cph), rt_v3_scale(t2, sin_t * sph)));
-    out->pdf = L->prob / (2.0 * PI * omc_max);
-    return 1;
+    return cone_dir(L, p, time, s, (uint32_t)u2, &out->dir, &out->pdf);
 }
 
 double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
@@ -219,4 +263,27 @@ double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, ui
     rt_vec3 w;
     const double omc_max = cone(L, p, time, &w);
     return omc_max > 0.0 ? L->prob / (2.0 * PI * omc_max) : 0.0;
+}
+
+int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t a, uint32_t b, rt_vec3 *dir)
+{
+    const uint64_t x = (uint64_t)a * l->nt; /* the target: x's high word; its low word, a fraction left */
+    double pdf;
+    return cone_dir(&l->targets[x >> 32], p, time, rt_warp_unit((uint32_t)x), b, dir, &pdf);
+}
+
+double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir)
+{
+    (void)time; /* the targets are static spheres: centre a */
+    double sum = 0;
+    for (uint32_t i = 0; i < l->nt; i++) {
+        const light *L = &l->targets[i];
+        const rt_vec3 d = rt_v3_sub(L->a, p);
+        const double b = rt_v3_dot(dir, d), r2 = L->c.x * L->c.x, d2 = rt_v3_len2(d);
+        if (!(b > 0.0) || b * b < rt_v3_len2(dir) * (d2 - r2) || !(d2 > r2))
+            continue; /* the line misses the sphere (or points away), or p is inside it */
+        const double sin2 = r2 / d2; /* cone()'s 1 - cos max, without its axis */
+        sum += L->prob / (2.0 * PI * (sin2 / (1.0 + sqrt(1.0 - sin2))));
+    }
+    return sum;
 }

@@ -38,6 +38,16 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
 rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, rt_sampler *smp,
                       uint64_t *segments);
 
+/* A lambertian vertex's scattered direction *dir from p (normal n) by the
+ * 2D number u: cosine-weighted, or, in a scene with sampling targets
+ * (lights.h), a mixture of that and directions aimed at them. *pdf: its
+ * density (for the MIS weight of an emitter the ray finds). Returns the
+ * factor of the path's throughput besides the albedo (cos / pi over the
+ * density; 1 for the cosine alone), 0 when the path ends (a direction
+ * below the surface: nothing is reflected there). */
+double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, uint64_t u, rt_vec3 *dir,
+                      double *pdf);
+
 /* The weight of the emission a BSDF-sampled ray (from its origin, where
  * the vertex's BSDF density of its direction was pdf_bsdf) finds at hit h:
  * 1 after a specular vertex (pdf_bsdf 0). */

@@ -235,14 +235,20 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
         att = col;
         vx->pdf = 1.0 / (4.0 * PI);
     } else {
-        if (m->kind == RT_MAT_LAMBERTIAN && lit(c, vx))
-            direct2(c, p, vx, rec.p, rec.normal, col);
-        if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
-            return 0;
-        if (m->kind == RT_MAT_LAMBERTIAN) {
-            att = col;
-            if (c->r->lights) /* cosine-weighted */
-                vx->pdf = rt_v3_dot(next.dir, rec.normal) / (rt_v3_len(next.dir) * PI);
+        if (m->kind == RT_MAT_LAMBERTIAN && c->r->lights) {
+            if (lit(c, vx))
+                direct2(c, p, vx, rec.p, rec.normal, col);
+            next.orig = rec.p;
+            const double f = rt_nee_scatter(c->r, rec.p, rec.normal, time, rt_sampler_get2d(&p->smp), &next.dir,
+                                            &vx->pdf);
+            if (f == 0.0)
+                return 0;
+            att = rt_v3_scale(col, f);
+        } else {
+            if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
+                return 0;
+            if (m->kind == RT_MAT_LAMBERTIAN)
+                att = col;
         }
     }
     p->thr = rt_v3_mul(p->thr, att);

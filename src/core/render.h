@@ -34,8 +34,11 @@
  * lights (nee.h; sampler.h's lit layout), unless --no-light-sampling,
  * whose images, and those of every scene without emitters, keep version
  * 4's bytes. 6: lit scenes' shadow rays under Russian roulette when
- * faint (nee.c), decided by the light choice's number. */
-#define RT_RENDER_SAMPLING 6u
+ * faint (nee.c), decided by the light choice's number. 7: in lit scenes
+ * with glass spheres (book3-final, book2-final), a lambertian vertex aims
+ * one in eight of its scattered directions at them (nee.c), from the same
+ * 2D number; other lit scenes (cornell-box) keep version 6's bytes. */
+#define RT_RENDER_SAMPLING 7u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts
  * only paths whose throughput has fallen below RT_RENDER_ROULETTE_KEEP in

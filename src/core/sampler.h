@@ -38,7 +38,10 @@
  *     +6              1D which light (nee.h, lights.h)
  *     +8 - +9         2D the direction toward it (a point of a quad, a
  *                     direction in a sphere's cone)
- *   (+7 unused: a 2D request takes an even dimension). The brute-force
+ *   (+7 unused: a 2D request takes an even dimension); in a lit scene
+ *   with glass spheres, a lambertian vertex's 2D direction (+2 - +3)
+ *   also decides whether it aims at one of them (nee.h: its first
+ *   fraction's eighth). The brute-force
  *   loop keeps 8 a bounce: its bytes, and those of scenes without
  *   emitters, are unchanged.
  *
