@@ -71,4 +71,31 @@ lose_rank() {
 # every hour): rank 0 hands those units out again too.
 HELD=held lose_rank kill9 KILL 1 --flush-interval 3600
 HELD= lose_rank hung STOP 2
+
+# A frame job (units of several frames in flight at once): a killed rank's
+# units, whichever frames they belong to, go to the others, and every
+# frame is the bytes of an uninterrupted range.
+F=(--width 160 --height 96 -s 600 -q --turntable 90:4 --frames 0-3)
+"$BIN" "${F[@]}" -j 2 --no-checkpoint -o "$WORK/fref_#.png" >"$WORK/fref.out" 2>&1
+check_eq "frames: reference range" $? 0
+timeout 120 "$MPIRUN" --enable-recovery -np 3 --bind-to none "$BIN" "${F[@]}" -j 1 --lease 2 \
+    --flush-interval 3600 -o "$WORK/fr_#.png" >"$WORK/fr.out" 2>"$WORK/fr.err" &
+pid=$!
+victim=$(rank_pid "-o $WORK/fr_#.png" 1)
+if [ -n "$victim" ]; then
+    wait_cpu "$victim" 0.5 || fail "frames: rank 1 ended before it had rendered 0.5 s"
+    kill -KILL "$victim"
+else
+    fail "frames: rank 1 not found"
+    kill $pid
+fi
+wait $pid
+check_eq "frames: exit status of mpirun" $? 0
+grep -q "rank 1 lost" "$WORK/fr.err" && pass "frames: rank 0 says rank 1 was lost" ||
+    fail "frames: no loss reported: $(grep -m2 rt-mpi "$WORK/fr.err")"
+same=0
+for f in 0 1 2 3; do cmp -s "$WORK/fr_$f.png" "$WORK/fref_$f.png" && same=$((same + 1)); done
+check_eq "frames: frames identical to the uninterrupted range" $same 4
+pgrep -f -- "-o $WORK/fr_#.png" >/dev/null && { fail "frames: processes left behind"; pkill -9 -f -- "-o $WORK/fr_#.png"; } ||
+    pass "frames: no process left behind"
 finish
