@@ -6,7 +6,8 @@
 #   hostfile  3 x 1 rank x 2 threads, 3 x 2 ranks x 1 thread, uneven slots
 #   mixed     one host on the SSE2 box test, one on the portable scalar one,
 #             one on the default, each with its own thread count (RT_ACCEL
-#             and OMP_NUM_THREADS in the host's environment)
+#             and OMP_NUM_THREADS in the host's environment); frame jobs
+#             there against the one-process build's --frame N
 #   badnet    one host's link with 20 ms +- 5 ms delay and 1 % loss
 #   losthost  every process on one host killed mid-render: the job ends
 #             within seconds; exit 0 with the image, or a checkpoint from
@@ -154,6 +155,23 @@ mixed)
     cmpirun 120 "$hf" -np 4 "$BIN" "${IMG[@]}" -o "$WORK/mixed2.png" >"$WORK/mixed2.out" 2>&1
     check_eq "mixed, rank 0 on the scalar host: exit status" $? 0
     same_image "mixed, rank 0 on the scalar host" "$WORK/mixed2.png" || show "$WORK/mixed2.out"
+    # A frame job over the same mixed hosts (units of several frames in
+    # flight, each rank building each frame's camera itself): every frame
+    # is the bytes of the one-process build's --frame N alone. The final
+    # scene on a turntable, and book 2's moving spheres (a ray's time).
+    for sc in "turn --turntable 90:4" "bounce --scene bouncing-spheres --max-depth 8"; do
+        read -r tag args <<<"$sc"
+        # shellcheck disable=SC2086
+        cmpirun 120 "$hf" -np 4 "$BIN" "${IMG[@]}" $args --frames 0-2 -o "$WORK/$tag-#.png" >"$WORK/$tag.out" 2>&1
+        check_eq "mixed, frames ($tag): exit status" $? 0
+        same=0
+        for f in 0 1 2; do
+            # shellcheck disable=SC2086
+            "$SERIAL" "${IMG[@]}" $args -j 2 --frame $f -o "$WORK/$tag-ref-#.png" >/dev/null 2>&1 &&
+                cmp -s "$WORK/$tag-$f.png" "$WORK/$tag-ref-$f.png" && same=$((same + 1))
+        done
+        check_eq "mixed, frames ($tag): frames identical to the one-process --frame N" $same 3
+    done
     ;;
 
 badnet)
