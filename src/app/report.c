@@ -228,6 +228,7 @@ int rt_report_stats(const char *path, const rt_run_summary *s)
     if (s->frame_job) {
         add_num(doc, "frame", s->frame, &ok);
         add_num(doc, "frames_held_peak", s->frames_peak, &ok);
+        add_num(doc, "render_start_seconds", s->frame_start, &ok);
     }
     add_num(doc, "width", s->job->width, &ok);
     add_num(doc, "height", s->job->height, &ok);

@@ -42,6 +42,8 @@ typedef struct rt_run_summary {
     int frame_job;  /* a frame of a frame job: its number is recorded */
     uint32_t frame;
     uint32_t frames_peak; /* frame job: frames held on rank 0 at most so far */
+    double frame_start;   /* frame job: its first unit handed out, seconds
+                           * from the range's start (rank 0's clock) */
 } rt_run_summary;
 
 /* Where adaptive sampling put the samples: the mean per pixel, and how

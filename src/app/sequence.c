@@ -199,6 +199,7 @@ static void on_frame(rt_farm_client *c, rt_farm_frame *f)
     rt_run_result res = {.farm = {.segments = f->segments,
                                   .units = f->units,
                                   .wall = f->last - f->first,
+                                  .start = f->first,
                                   .trace = f->trace,
                                   .n_trace = f->n_trace}};
     rt_progress *p = &c->root->progress;

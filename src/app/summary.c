@@ -346,7 +346,8 @@ static void write_reports(const finish *F, uint64_t hash, const rt_spp_stats *sp
                           .spp = spp,
                           .frame_job = o->frame_job,
                           .frame = o->frame,
-                          .frames_peak = F->how->frames_peak};
+                          .frames_peak = F->how->frames_peak,
+                          .frame_start = res->start};
     int st;
     if (o->stats && (st = rt_report_stats(o->stats, &sum)) != RT_OK)
         fprintf(stderr, "rt-mpi: warning: cannot write %s: %s\n", o->stats, rt_status_str(st));

@@ -168,7 +168,10 @@ typedef struct rt_farm_result {
     rt_rank_stats *ranks; /* rank 0: one per rank (caller frees) */
     rt_trace_event *trace;
     size_t n_trace;
-    double wall; /* seconds in rt_farm_render */
+    double wall; /* seconds in rt_farm_render (a frame job's frame: from its
+                  * first unit handed out to its last sums in) */
+    double start; /* a frame job's frame: when its first unit was handed out,
+                   * seconds from the range's start on rank 0's clock */
     /* rank 0 only: */
     int lost;               /* ranks lost during the render */
     uint64_t msgs_in;       /* messages rank 0 received */

@@ -86,35 +86,35 @@ if [ -n "$MPIRUN" ]; then
     same_frames "turntable -np 3 --split samples" turn 1 5 2 mpirun_np 3 "$BIN" "${T[@]}" -j 1 --split samples --frames 1-5:2
     same_frames "moving spheres -np 2 -j 2" bounce 0 2 1 mpirun_np 2 "$BIN" "${B[@]}" -j 2 --frames 0-2
     same_frames "moving spheres -np 3 --split columns" bounce 0 2 1 mpirun_np 3 "$BIN" "${B[@]}" -j 1 --split columns --frames 0-2
-    # Units across frames (one schedule for the range): the trace of each
-    # frame (its units' events, global rows y0 = frame index x height + row,
-    # times from the range's start) shows a unit of frame k+1 starting more
-    # than 5 ms before frame k's last unit ends, for some k (5 ms: beyond
-    # the ranks' clock origins, which differ by their exits from a barrier:
-    # up to 2 ms seen here with frames one after another, 4 to 60 ms of
-    # overlap with frames in flight).
+    # Units across frames (one schedule for the range): each frame's
+    # --stats gives, on rank 0's clock, when its first unit was handed out
+    # (render_start_seconds) and for how long until its last sums were in
+    # (render_seconds); some frame k+1 must start before frame k ends (with
+    # frames one after another none does). Its trace (global rows y0 =
+    # frame index x height + row) holds its own frame's units only, none
+    # across a frame's end.
     rm -rf "$WORK/tr" && mkdir -p "$WORK/tr"
     mpirun_np 3 "$BIN" --width 64 --height 32 -s 32 --grid 3 --turntable 90:4 -q -j 1 --frames 0-5 \
-        -o "$WORK/tr/f_#.png" --trace "$WORK/tr/t_#.json" >/dev/null 2>"$WORK/tr.err" ||
+        -o "$WORK/tr/f_#.png" --trace "$WORK/tr/t_#.json" --stats "$WORK/tr/s_#.json" >/dev/null 2>"$WORK/tr.err" ||
         fail "units across frames: the job failed: $(head -c 300 "$WORK/tr.err")"
     overlap=$(python3 - "$WORK/tr" 32 6 <<'PY'
 import json, sys
 d, h, n = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-start, end, wrong = {}, {}, 0
+wrong, start, end = 0, {}, {}
 for f in range(n):
     for e in json.load(open("%s/t_%d.json" % (d, f)))["traceEvents"]:
-        if e.get("ph") != "X":
-            continue
-        k = e["args"]["y0"] // h
-        wrong += k != f or (e["args"]["y1"] - 1) // h != k  # its own frame's, never across
-        start[k] = min(start.get(k, 1e30), e["ts"])
-        end[k] = max(end.get(k, 0), e["ts"] + e["dur"])
-print("wrong" if wrong else sum(1 for k in range(n - 1) if start[k + 1] < end[k] - 5000))
+        if e.get("ph") == "X":
+            k = e["args"]["y0"] // h
+            wrong += k != f or (e["args"]["y1"] - 1) // h != k  # its own frame's, never across
+    s = json.load(open("%s/s_%d.json" % (d, f)))
+    start[f] = s["render_start_seconds"]
+    end[f] = start[f] + s["render_seconds"]
+print("wrong" if wrong else sum(1 for k in range(n - 1) if start[k + 1] < end[k]))
 PY
 )
     [ -n "$overlap" ] && [ "$overlap" != wrong ] && [ "$overlap" -gt 0 ] &&
-        pass "units across frames: $overlap of 5 frames overlap the next" ||
-        fail "units across frames: no frame's units overlap the next's ($overlap)"
+        pass "units across frames: $overlap of 5 frames start before the one before them ends" ||
+        fail "units across frames: no frame starts before the one before it ends ($overlap)"
 else
     skip "mpirun not found: frame jobs over ranks"
 fi
