@@ -129,10 +129,13 @@ check_eq "frame job: resumed frames identical to the uninterrupted run" "$same o
 # Two frames in flight (units across frames, issue 37): stopped while two
 # frames both have rows in, the checkpoint holds both (each with its counts
 # and sums), and --resume continues both (fewer ray segments than each
-# alone) and ends with every frame identical. Over 2 ranks a frame's last
-# units run beside the next frame's first; the signal is sent once the
-# checkpoint shows two partial frames, and the check reads the checkpoint
-# the stop left (the job is run again, at most 5 times, until it does).
+# alone) and ends with every frame identical. Over 2 ranks, rank 1 is
+# stopped (SIGSTOP) once it has rendered a little, with units of an early
+# frame in hand: that frame stays partial while rank 0 renders the next
+# frames' units (the lease is long, so rank 1 is not lost). The signal is
+# sent once the checkpoint shows two partial frames, rank 1 is continued,
+# and the check reads the checkpoint the stop left (the job is run again,
+# at most 5 times, until it does).
 if [ -n "$MPIRUN" ]; then
     P=(--width 64 --height 16 -s 600 --turntable 60:4 -q --band 2)
     "$BIN" "${P[@]}" -j 2 --frames 0-5 -o "$WORK/pref_#.png" --stats "$WORK/pref_#.json" --no-checkpoint >/dev/null
@@ -149,14 +152,18 @@ if [ -n "$MPIRUN" ]; then
     for attempt in 1 2 3 4 5; do
         [ -n "$got" ] && break
         rm -f "$WORK"/p2_* "$WORK/p2_#.png.ckpt"
-        "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${P[@]}" -j 1 --frames 0-5 -o "$WORK/p2_#.png" --checkpoint-interval 0 >/dev/null 2>"$WORK/p2.err" &
+        "$MPIRUN" -np 2 --oversubscribe --bind-to none "$BIN" "${P[@]}" -j 1 --frames 0-5 -o "$WORK/p2_#.png" \
+            --checkpoint-interval 0 --lease 120 >/dev/null 2>"$WORK/p2.err" &
         pid=$!
+        victim=$(rank_pid "-o $WORK/p2_#.png" 1)
+        [ -n "$victim" ] && wait_cpu "$victim" 0.05 && kill -STOP "$victim"
         for ((i = 0; i < 600; i++)); do
             two_partial "$WORK/p2_#.png.ckpt" >/dev/null && break
             kill -0 $pid 2>/dev/null || break
             sleep 0.02
         done
         kill -USR1 $pid 2>/dev/null
+        [ -n "$victim" ] && kill -CONT "$victim" 2>/dev/null
         wait $pid
         got=$(two_partial "$WORK/p2_#.png.ckpt")
     done
