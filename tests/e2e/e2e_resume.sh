@@ -130,8 +130,8 @@ check_eq "frame job: resumed frames identical to the uninterrupted run" "$same o
 # frames both have rows in, the checkpoint holds both (each with its counts
 # and sums), and --resume continues both (fewer ray segments than each
 # alone) and ends with every frame identical. Over 2 ranks, rank 1 is
-# stopped (SIGSTOP) once it has rendered a little, with units of an early
-# frame in hand: that frame stays partial while rank 0 renders the next
+# stopped (SIGSTOP) once the checkpoint has a frame in flight, with units
+# of an early frame in hand: that frame stays partial while rank 0 renders the next
 # frames' units (the lease is long, so rank 1 is not lost). The signal is
 # sent once the checkpoint shows two partial frames, rank 1 is continued,
 # and the check reads the checkpoint the stop left (the job is run again,
@@ -156,7 +156,15 @@ if [ -n "$MPIRUN" ]; then
             --checkpoint-interval 0 --lease 120 >/dev/null 2>"$WORK/p2.err" &
         pid=$!
         victim=$(rank_pid "-o $WORK/p2_#.png" 1)
-        [ -n "$victim" ] && wait_cpu "$victim" 0.05 && kill -STOP "$victim"
+        # as soon as the checkpoint has a frame in flight: rank 1 has held
+        # units of the first frames since it said hello
+        for ((i = 0; i < 1000; i++)); do
+            n=$(ckpt_u32 "$WORK/p2_#.png.ckpt" 96)
+            [ -n "$n" ] && [ "$n" -ge 1 ] 2>/dev/null && break
+            kill -0 $pid 2>/dev/null || break
+            sleep 0.01
+        done
+        [ -n "$victim" ] && kill -STOP "$victim"
         for ((i = 0; i < 600; i++)); do
             two_partial "$WORK/p2_#.png.ckpt" >/dev/null && break
             kill -0 $pid 2>/dev/null || break
