@@ -77,13 +77,15 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
     span sp[SPANS];
     uint32_t ns = 0;
     for (uint32_t k = 0; k < n && ns < SPANS; k++) {
+        const rt_medium *m = &c->s->media.media.items[k];
         double a, b;
-        if (!rt_world_medium_span(c->w, k, &p->ray, &a, &b))
+        if (!(m->shape == RT_MEDIUM_SPHERE ? rt_world_sphere_span(m, &p->ray, &a, &b)
+                                            : rt_world_medium_span(c->w, k, &p->ray, &a, &b)))
             continue;
         a = a > T_MIN ? a : T_MIN;
         b = b < t_end ? b : t_end;
         if (b > a)
-            sp[ns++] = (span){.a = a, .b = b, .density = c->s->media.media.items[k].density, .medium = k};
+            sp[ns++] = (span){.a = a, .b = b, .density = m->density, .medium = k};
     }
     if (!ns)
         return 0;
