@@ -77,13 +77,15 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
     span sp[SPANS];
     uint32_t ns = 0;
     for (uint32_t k = 0; k < n && ns < SPANS; k++) {
+        const rt_medium *m = &c->s->media.media.items[k];
         double a, b;
-        if (!rt_world_medium_span(c->w, k, &p->ray, &a, &b))
+        if (!(m->shape == RT_MEDIUM_SPHERE ? rt_world_sphere_span(m, &p->ray, &a, &b)
+                                            : rt_world_medium_span(c->w, k, &p->ray, &a, &b)))
             continue;
         a = a > T_MIN ? a : T_MIN;
         b = b < t_end ? b : t_end;
         if (b > a)
-            sp[ns++] = (span){.a = a, .b = b, .density = c->s->media.media.items[k].density, .medium = k};
+            sp[ns++] = (span){.a = a, .b = b, .density = m->density, .medium = k};
     }
     if (!ns)
         return 0;
@@ -108,16 +110,17 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
         *medium = sp[0].medium;
         return 1;
     }
-    double x = T_MIN;
-    for (;;) { /* from x to the next span boundary */
-        double next = INFINITY, dens = 0;
+    double x = T_MIN, next, dens;
+    uint32_t live, last;
+    for (;;) { /* from x to the next span boundary; the spans live there */
+        next = INFINITY, dens = 0, live = 0, last = 0;
         for (uint32_t i = 0; i < ns; i++) {
             if (sp[i].a > x && sp[i].a < next)
                 next = sp[i].a;
             if (sp[i].b > x && sp[i].b < next)
                 next = sp[i].b;
             if (sp[i].a <= x && sp[i].b > x)
-                dens += sp[i].density;
+                dens += sp[i].density, live++, last = i;
         }
         if (next == INFINITY)
             return 0;
@@ -129,17 +132,20 @@ static int medium_event(const p2 *c, path *p, double t_end, double *t, uint32_t 
         tau -= depth;
         x = next;
     }
-    /* which medium: the first whose share of the density passes u */
-    uint32_t live = 0, last = 0;
-    for (uint32_t i = 0; i < ns; i++)
-        if (sp[i].a <= *t && sp[i].b > *t)
-            live++, last = i;
-    *medium = sp[last].medium;
-    if (live > 1) {
-        double dens = 0, acc = 0;
+    /* Which medium: the first whose share of the density passes u. The
+     * spans live at *t are those live at x when *t < next (x <= *t, as x
+     * plus a quotient >= 0 rounds; no span starts or ends in (x, next)),
+     * and their densities' sum in order is dens; else (*t rounded up to
+     * next) count them again. */
+    if (!(*t < next)) {
+        dens = 0, live = 0, last = 0;
         for (uint32_t i = 0; i < ns; i++)
             if (sp[i].a <= *t && sp[i].b > *t)
-                dens += sp[i].density;
+                dens += sp[i].density, live++, last = i;
+    }
+    *medium = sp[last].medium;
+    if (live > 1) {
+        double acc = 0;
         const double u = rt_sampler_get1d(&p->smp) * dens;
         for (uint32_t i = 0; i < ns; i++)
             if (sp[i].a <= *t && sp[i].b > *t && (acc += sp[i].density) > u) {

@@ -388,17 +388,8 @@ static void orient_hulls(rt_world *w)
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1)
 {
     const rt_medium *m = &w->s->media.media.items[k];
-    if (m->shape == RT_MEDIUM_SPHERE) {
-        const rt_vec3 oc = rt_v3_sub(ray->orig, m->center);
-        const double a = rt_v3_len2(ray->dir), hb = rt_v3_dot(oc, ray->dir);
-        const double c = rt_v3_dot(oc, oc) - m->radius * m->radius, disc = hb * hb - a * c;
-        if (!(disc > 0))
-            return 0;
-        const double sq = sqrt(disc);
-        *t0 = (-hb - sq) / a;
-        *t1 = (-hb + sq) / a;
-        return 1;
-    }
+    if (m->shape == RT_MEDIUM_SPHERE)
+        return rt_world_sphere_span(m, ray, t0, t1);
     /* A convex hull: the line is inside where it is inside every face's
      * plane, from the last plane it enters to the first it leaves (the
      * same crossings, by rt_quad_t's formula, as its first and last

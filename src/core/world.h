@@ -80,6 +80,21 @@ int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_
  * boundary (t may be negative); 0 when the line misses it. */
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1);
 
+/* rt_world_medium_span of a sphere medium m, inline for the path loop's
+ * media (media.c): no call, so nothing of its caller spills. */
+static inline int rt_world_sphere_span(const rt_medium *m, const rt_ray *ray, double *t0, double *t1)
+{
+    const rt_vec3 oc = rt_v3_sub(ray->orig, m->center);
+    const double a = rt_v3_len2(ray->dir), hb = rt_v3_dot(oc, ray->dir);
+    const double c = rt_v3_dot(oc, oc) - m->radius * m->radius, disc = hb * hb - a * c;
+    if (!(disc > 0))
+        return 0;
+    const double sq = sqrt(disc);
+    *t0 = (-hb - sq) / a;
+    *t1 = (-hb + sq) / a;
+    return 1;
+}
+
 /* The surface record of hit h of ray (time: its time), with (u, v) when
  * want_uv (a textured material): spheres by the book's longitude and
  * latitude of the object-space normal, quads by their edge coordinates. */
