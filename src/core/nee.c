@@ -14,7 +14,7 @@
 rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
 {
     const rt_scene *s = r->scene;
-    const rt_material *m = &s->materials[rt_world_material(r->world, h)];
+    const rt_material *m = &s->materials[h->material];
     if (m->kind != RT_MAT_EMITTER)
         return rt_v3(0, 0, 0);
     rt_surface rec;
@@ -153,13 +153,14 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
         }
     }
     ++*segments;
-    rt_whit h = {0.0, ld.kind, ld.index}; /* rt_nee_closest's hit if nothing stands in front of the light */
+    rt_whit h = {0.0, ld.kind, ld.index, 0}; /* rt_nee_closest's hit if nothing stands in front of the light */
     if (!rt_world_shape_t(r->world, ld.kind, ld.index, &ray, time, T_MIN, &h.t) ||
         rt_world_occluded(r->world, &ray, time, T_MIN, h.t, ld.kind, ld.index))
         return none; /* occluded */
     const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, ld.kind, ld.index, h.t);
     if (!(pdf_light > 0.0))
         return none;
+    h.material = rt_world_material(r->world, &h);
     const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
     if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return none;

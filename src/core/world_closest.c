@@ -94,6 +94,7 @@ int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double t
     hit->t = best_t;
     hit->kind = best < w->nq ? RT_SHAPE_QUAD : best < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
     hit->index = best < w->nq ? best : best < w->ns ? best - w->nq : best - w->ns;
+    hit->material = w->mat[best];
     return 1;
 }
 

@@ -40,6 +40,7 @@ struct rt_world {
     quad_x *hull; /* the media's boundary quads, prepared once */
     uint32_t nq, ns, nitems; /* items: quads 0..nq-1, the moving spheres nq..ns-1, then the static spheres */
     uint32_t *items;     /* leaf order (the build's) */
+    uint32_t *mat;       /* each item's material, for the hits */
     wide *nodes;
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
