@@ -338,6 +338,7 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         rt_world_free(w);
         return st;
     }
+    rt_world_pick(w);
     *out = w;
     return RT_OK;
 }
