@@ -98,7 +98,7 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
                       double *pdf)
 {
     const uint32_t slots = RT_NEE_AIM_SLOTS;
-    if (!slots || !rt_lights_target_count(r->lights)) { /* cosine-weighted */
+    if (!slots || !r->light_targets) { /* cosine-weighted */
         rt_vec3 d = rt_warp_cosine(u, n);
         if (rt_v3_near_zero(d))
             d = n;
@@ -142,7 +142,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
     if (!(cosine > 0.0)) /* below a lambertian surface: it reflects nothing there */
         return none;
     const double pdf_bsdf = iso ? 1.0 / (4.0 * PI) : cosine / PI;
-    const int aim = !iso && RT_NEE_AIM_SLOTS && rt_lights_target_count(r->lights);
+    const int aim = !iso && RT_NEE_AIM_SLOTS && r->light_targets;
     double keep = 1.0;
     if (r->job.roulette) {
         const double est = luma(weight) * ld.emit * pdf_bsdf / ld.pdf;

@@ -141,6 +141,7 @@ static void check_furnace(int glass)
     const rt_renderer r = renderer(&s, &a, 8, 8, 50, RT_LIGHT_MIS, 0);
     CHECK(r.lights != NULL && rt_lights_count(r.lights) == 8);
     CHECK_EQ_INT(rt_lights_target_count(r.lights), glass ? 1 : 0);
+    CHECK_EQ_INT(r.light_targets, glass ? 1 : 0);
     stat st = {{0}, {0}, 0};
     for (uint32_t y = 0; y < 8; y++)
         for (uint32_t x = 0; x < 8; x++)
