@@ -173,12 +173,11 @@ static void miss2(const p2 *c, path *p)
  * albedo gets from a light it samples; called when there are lights to
  * sample and the next segment is within the depth limit (as the emitter a
  * scattered ray could hit). Its numbers: the bounce's light dimensions;
- * the scattering's follow. Out of line: the loop of scenes without lights
- * stays as small as it was. */
+ * the scattering's follow. Inline: a wrapper of its own out of line cost a
+ * second call a vertex (nee.c's work stays out of the loop). */
 static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
 
-static __attribute__((noinline)) void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n,
-                                               rt_vec3 albedo)
+static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n, rt_vec3 albedo)
 {
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
     p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, n, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
