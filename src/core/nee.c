@@ -153,14 +153,14 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
         }
     }
     ++*segments;
-    rt_whit h = {0.0, ld.kind, ld.index, 0}; /* rt_nee_closest's hit if nothing stands in front of the light */
+    /* rt_nee_closest's hit if nothing stands in front of the light */
+    rt_whit h = {0.0, ld.kind, ld.index, ld.material};
     if (!rt_world_shape_t(r->world, ld.kind, ld.index, &ray, time, T_MIN, &h.t) ||
         rt_world_occluded(r->world, &ray, time, T_MIN, h.t, ld.kind, ld.index))
         return none; /* occluded */
-    const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, ld.kind, ld.index, h.t);
+    const double pdf_light = rt_lights_pdf_of(r->lights, ld.light, p, time, ray.dir, h.t);
     if (!(pdf_light > 0.0))
         return none;
-    h.material = rt_world_material(r->world, &h);
     const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
     if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return none;
