@@ -19,6 +19,7 @@ typedef struct light {
     double area;          /* quad */
     double prob;          /* of being chosen */
     double emit;          /* luminance of its emission */
+    uint32_t material;
     int one_sided;        /* quad: emits from its front face only (the side n points to) */
 } light;
 
@@ -51,7 +52,7 @@ static double exitance(const rt_scene *s, uint32_t material)
 
 static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
 {
-    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0};
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0, 0};
     L.area = 4.0 * PI * radius * radius;
     return L;
 }
@@ -59,7 +60,7 @@ static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1,
 static light quad_light(uint32_t index, const rt_quad *q)
 {
     const rt_vec3 n = rt_v3_cross(q->u, q->v);
-    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0};
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0, 0};
     return L;
 }
 
@@ -70,6 +71,7 @@ static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t 
     if (exit > 0.0 && L.area > 0.0) {
         L.prob = exit * L.area;
         L.emit = radiance(s, material);
+        L.material = material;
         L.one_sided = !(s->materials[material].flags & RT_MAT_TWO_SIDED);
         items[(*n)++] = L;
     }
@@ -227,6 +229,8 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
     const double below = lo ? l->cdf[lo - 1] : 0.0, rest = (u - below) / L->prob;
     out->kind = (uint32_t)(L->key >> 32);
     out->index = (uint32_t)L->key;
+    out->material = L->material;
+    out->light = lo;
     out->emit = L->emit;
     out->rest = rest < 1.0 ? (rest > 0.0 ? rest : 0.0) : 0x1.fffffffffffffp-1;
     const double s = rt_warp_unit((uint32_t)(u2 >> 32));
@@ -257,7 +261,12 @@ double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, ui
     }
     if (lo == l->n || l->items[lo].key != key)
         return 0.0;
-    const light *L = &l->items[lo];
+    return rt_lights_pdf_of(l, lo, p, time, dir, t);
+}
+
+double rt_lights_pdf_of(const rt_lights *l, uint32_t slot, rt_vec3 p, double time, rt_vec3 dir, double t)
+{
+    const light *L = &l->items[slot];
     if (is_quad(L))
         return L->prob * quad_pdf(L, dir, t);
     rt_vec3 w;

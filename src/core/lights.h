@@ -65,6 +65,8 @@ size_t rt_lights_bytes(const rt_lights *l);
 typedef struct rt_light_dir {
     rt_vec3 dir;          /* unit */
     uint32_t kind, index; /* the light's shape (world.h's rt_shape_kind, its index) */
+    uint32_t material;    /* the shape's */
+    uint32_t light;       /* its place in the list (rt_lights_pdf_of) */
     double pdf;           /* the density of dir (rt_lights_pdf's), for the chosen point on a quad */
     double emit;          /* the light's luminance (a textured one counts as white) */
     double rest;          /* u's fraction within the chosen light's share: a number in [0, 1)
@@ -84,6 +86,9 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
  * that shape is no light or is not sampled from p. */
 double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
                      double t);
+/* The same for the light at place `slot` of the list (rt_light_dir.light),
+ * without looking its shape up. */
+double rt_lights_pdf_of(const rt_lights *l, uint32_t slot, rt_vec3 p, double time, rt_vec3 dir, double t);
 
 /* Sampling targets: the scene's static glass spheres, which emit nothing
  * but through which a diffuse vertex's light can come (a caustic: the

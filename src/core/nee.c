@@ -14,7 +14,7 @@
 rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
 {
     const rt_scene *s = r->scene;
-    const rt_material *m = &s->materials[rt_world_material(r->world, h)];
+    const rt_material *m = &s->materials[h->material];
     if (m->kind != RT_MAT_EMITTER)
         return rt_v3(0, 0, 0);
     rt_surface rec;
@@ -98,7 +98,7 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
                       double *pdf)
 {
     const uint32_t slots = RT_NEE_AIM_SLOTS;
-    if (!slots || !rt_lights_target_count(r->lights)) { /* cosine-weighted */
+    if (!slots || !r->light_targets) { /* cosine-weighted */
         rt_vec3 d = rt_warp_cosine(u, n);
         if (rt_v3_near_zero(d))
             d = n;
@@ -142,7 +142,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
     if (!(cosine > 0.0)) /* below a lambertian surface: it reflects nothing there */
         return none;
     const double pdf_bsdf = iso ? 1.0 / (4.0 * PI) : cosine / PI;
-    const int aim = !iso && RT_NEE_AIM_SLOTS && rt_lights_target_count(r->lights);
+    const int aim = !iso && RT_NEE_AIM_SLOTS && r->light_targets;
     double keep = 1.0;
     if (r->job.roulette) {
         const double est = luma(weight) * ld.emit * pdf_bsdf / ld.pdf;
@@ -153,11 +153,12 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
         }
     }
     ++*segments;
-    rt_whit h = {0.0, ld.kind, ld.index}; /* rt_nee_closest's hit if nothing stands in front of the light */
+    /* rt_nee_closest's hit if nothing stands in front of the light */
+    rt_whit h = {0.0, ld.kind, ld.index, ld.material};
     if (!rt_world_shape_t(r->world, ld.kind, ld.index, &ray, time, T_MIN, &h.t) ||
         rt_world_occluded(r->world, &ray, time, T_MIN, h.t, ld.kind, ld.index))
         return none; /* occluded */
-    const double pdf_light = rt_lights_pdf(r->lights, p, time, ray.dir, ld.kind, ld.index, h.t);
+    const double pdf_light = rt_lights_pdf_of(r->lights, ld.light, p, time, ray.dir, h.t);
     if (!(pdf_light > 0.0))
         return none;
     const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);

@@ -53,7 +53,7 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
  * 1 after a specular vertex (pdf_bsdf 0). */
 double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time);
 
-/* The emission of emitter hit h seen along ray: its texture's value on its
+/* The emission of emitter hit h (its material set) seen along ray: its texture's value on its
  * emitting face(s), else zero. */
 rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time);
 

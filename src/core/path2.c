@@ -21,8 +21,10 @@ typedef struct p2 {
     const rt_renderer *r;
     const rt_world *w;
     const rt_scene *s;
+    const rt_perlin *pn; /* the world's noise tables */
     pixel_ctx pc;
     uint32_t stride; /* sampler dimensions per bounce (sampler.h) */
+    int cosine;      /* lambertian surfaces scatter by material.c's cosine rule (no lights to sample) */
 } p2;
 
 /* The vertex a path is at: the bounce's depth and first dimension, the
@@ -177,12 +179,11 @@ static void miss2(const p2 *c, path *p)
  * albedo gets from a light it samples; called when there are lights to
  * sample and the next segment is within the depth limit (as the emitter a
  * scattered ray could hit). Its numbers: the bounce's light dimensions;
- * the scattering's follow. Out of line: the loop of scenes without lights
- * stays as small as it was. */
+ * the scattering's follow. Inline: a wrapper of its own out of line cost a
+ * second call a vertex (nee.c's work stays out of the loop). */
 static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
 
-static __attribute__((noinline)) void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n,
-                                               rt_vec3 albedo)
+static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n, rt_vec3 albedo)
 {
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
     p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, n, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
@@ -211,11 +212,11 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
 static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
 {
     const double time = vx->time;
-    const rt_material *m = &c->s->materials[rt_world_material(c->w, h)];
+    const rt_material *m = &c->s->materials[h->material];
     rt_surface rec;
     double u, v;
     rt_world_surface(c->w, h, &p->ray, time, m->texture != 0, &rec, &u, &v);
-    const rt_vec3 col = rt_texture_albedo(c->s, rt_world_perlin(c->w), m, u, v, rec.p);
+    const rt_vec3 col = rt_texture_albedo(c->s, c->pn, m, u, v, rec.p);
     if (m->kind == RT_MAT_EMITTER) {
         if (rec.front_face || (m->flags & RT_MAT_TWO_SIDED)) {
             const double w = c->r->lights ? rt_nee_weight(c->r, &p->ray, vx->pdf, h, time) : 1.0;
@@ -230,9 +231,17 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
         const int specular = m->kind == RT_MAT_DIELECTRIC || (m->kind == RT_MAT_METAL && m->fuzz == 0.0);
         p->aov = (aov_rec){!specular, m->kind == RT_MAT_DIELECTRIC ? rt_v3(1, 1, 1) : col, rec.normal};
     }
+    vx->pdf = 0.0;
+    if (m->kind == RT_MAT_LAMBERTIAN && c->cosine) { /* rt_material_scatter's lambertian, its operations inline */
+        rt_vec3 d = rt_warp_cosine(rt_sampler_get2d(&p->smp), rec.normal);
+        if (rt_v3_near_zero(d))
+            d = rec.normal;
+        p->thr = rt_v3_mul(p->thr, col);
+        p->ray = (rt_ray){rec.p, d};
+        return 1;
+    }
     rt_vec3 att;
     rt_ray next;
-    vx->pdf = 0.0;
     if (m->kind == RT_MAT_ISOTROPIC) { /* a surface of isotropic material scatters as a medium does */
         if (lit(c, vx))
             direct2(c, p, vx, rec.p, rt_v3(0, 0, 0), col);
@@ -319,8 +328,10 @@ static p2 context(const rt_renderer *r, uint32_t x, uint32_t y, int aovs)
     p2 c = {.r = r,
             .w = r->world,
             .s = r->scene,
+            .pn = rt_world_perlin(r->world),
             .pc = pixel_start(r, x, y, pixel_key(r, x, y), aovs),
-            .stride = r->lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS};
+            .stride = r->lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS,
+            .cosine = !r->lights && r->job.diffuse == RT_DIFFUSE_LAMBERTIAN};
     return c;
 }
 

@@ -11,6 +11,7 @@
 #endif
 
 #include "dispatch.h"
+#include "lights.h"
 #include "path.h"
 #include "path2.h"
 #include "status.h"
@@ -30,6 +31,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->lay = rt_job_layout(job);
     r->world = rt_accel_world(a);
     r->lights = job->light != RT_LIGHT_BRUTE && job->diffuse == RT_DIFFUSE_LAMBERTIAN ? rt_accel_lights(a) : NULL;
+    r->light_targets = rt_lights_target_count(r->lights);
     return rt_render_frame(r, &s->camera, 0.0, 1.0);
 }
 

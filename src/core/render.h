@@ -109,6 +109,7 @@ typedef struct rt_renderer {
      * lambertian one, whose density next-event estimation assumes): then
      * it finds them by chance, as the book-2 loop always has. */
     const struct rt_lights *lights;
+    uint32_t light_targets; /* rt_lights_target_count(lights), kept for the path loop's every vertex */
     /* The book-2 path loop's rays have their time in [time0, time1)
      * (time0 + u (time1 - time0)): the frame's shutter (anim.h). */
     double time0, time1;

@@ -314,9 +314,10 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
     const size_t n = w->nitems ? w->nitems : 1;
     w->quads = malloc((w->nq ? w->nq : 1) * sizeof *w->quads);
     w->items = malloc(n * sizeof *w->items);
+    w->mat = malloc(n * sizeof *w->mat);
     box *bx = malloc(n * sizeof *bx);
     w->hull = malloc((s->media.hull.n ? s->media.hull.n : 1) * sizeof *w->hull);
-    int st = (w->quads && w->hull && w->items && bx) ? RT_OK : RT_ENOMEM;
+    int st = (w->quads && w->hull && w->items && w->mat && bx) ? RT_OK : RT_ENOMEM;
     for (uint32_t i = 0; i < w->nq && !st; i++)
         w->quads[i] = quad_prep(&s->shapes.quads.items[i]);
     for (uint32_t i = 0; i < s->media.hull.n && !st; i++)
@@ -325,6 +326,9 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         orient_hulls(w);
     for (uint32_t i = 0; i < w->nitems && !st; i++) {
         w->items[i] = i;
+        w->mat[i] = i < w->nq ? s->shapes.quads.items[i].material
+                    : i < w->ns ? s->shapes.movers.items[i - w->nq].material
+                                : s->spheres[i - w->ns].material;
         bx[i] = item_box(w, i);
     }
     if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)
@@ -334,6 +338,7 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         rt_world_free(w);
         return st;
     }
+    rt_world_pick(w);
     *out = w;
     return RT_OK;
 }
@@ -345,6 +350,7 @@ void rt_world_free(rt_world *w)
     free(w->quads);
     free(w->hull);
     free(w->items);
+    free(w->mat);
     free(w->nodes);
     free(w);
 }

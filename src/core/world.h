@@ -28,6 +28,7 @@ typedef struct rt_whit {
     double t;
     uint32_t kind; /* rt_shape_kind */
     uint32_t index;
+    uint32_t material; /* the shape's (rt_world_closest fills it; rt_world_material gives any shape's) */
 } rt_whit;
 
 /* How rt_world_closest finds its hit: the wide tree with the fastest box
@@ -101,7 +102,7 @@ static inline int rt_world_sphere_span(const rt_medium *m, const rt_ray *ray, do
 void rt_world_surface(const rt_world *w, const rt_whit *h, const rt_ray *ray, double time, int want_uv,
                       rt_surface *rec, double *u, double *v);
 
-/* The material of hit h. */
+/* The material of hit h's shape (kind, index; h->material not read). */
 uint32_t rt_world_material(const rt_world *w, const rt_whit *h);
 
 #endif

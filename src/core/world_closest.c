@@ -18,6 +18,19 @@
 #undef WTRAVERSE
 #undef WTRAV_AVX
 
+/* The hit of item best at best_t (UINT32_MAX: none), its kind, index and
+ * material decoded; returns 1 on a hit. */
+static inline __attribute__((always_inline)) int hit_of(const rt_world *w, double best_t, uint32_t best, rt_whit *hit)
+{
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = best_t;
+    hit->kind = best < w->nq ? RT_SHAPE_QUAD : best < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
+    hit->index = best < w->nq ? best : best < w->ns ? best - w->nq : best - w->ns;
+    hit->material = w->mat[best];
+    return 1;
+}
+
 #if RT_BVH_HAVE_AVX
 #ifdef __clang__
 #pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
@@ -30,13 +43,18 @@
 #include "world_traverse.h"
 #undef WTRAVERSE
 #undef WTRAV_AVX
-static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best)
+static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
 {
-    return closest_avx(w, ray, time, tmin, best_t, best, 1, 0);
+    double best_t = tmax;
+    uint32_t best = UINT32_MAX;
+    closest_avx(w, ray, time, tmin, &best_t, &best, 1, 0);
+    return hit_of(w, best_t, best, hit);
 }
-static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best)
+static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t item)
 {
-    return closest_avx(w, ray, time, tmin, best_t, best, 1, 1);
+    double best_t = tmax;
+    uint32_t best = item;
+    return closest_avx(w, ray, time, tmin, &best_t, &best, 1, 1);
 }
 #ifdef __clang__
 #pragma clang attribute pop
@@ -45,9 +63,7 @@ static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmi
 #endif
 #endif
 
-/* The other walks out of line too, so that rt_world_closest itself stays
- * a small function (no registers saved, no stack frame for a walk it does
- * not take) whichever the mode. */
+/* The other modes' walks (the SSE2 or portable box test, brute force). */
 static __attribute__((noinline)) int walk_base(const rt_world *w, const rt_ray *ray, double time, double tmin,
                                                double *best_t, uint32_t *best, int simd, int anyhit)
 {
@@ -67,14 +83,11 @@ static __attribute__((noinline)) int walk_brute(const rt_world *w, const rt_ray 
 
 /* The hit (*best_t, *best) replaced by any nearer item, or as near and
  * before it, by the mode's walk; with anyhit, returns 1 at the first. */
-static inline __attribute__((always_inline)) int query(const rt_world *w, const rt_ray *ray, double time,
-                                                       double tmin, double *best_t, uint32_t *best, const int anyhit)
+static int query(const rt_world *w, const rt_ray *ray, double time, double tmin, double *best_t, uint32_t *best,
+                 int anyhit)
 {
     switch (w->n_nodes ? w->mode : RT_WORLD_BRUTE) {
-#if RT_BVH_HAVE_AVX
     case RT_WORLD_BVH:
-        return anyhit ? any_avx(w, ray, time, tmin, best_t, best) : walk_avx(w, ray, time, tmin, best_t, best);
-#endif
     case RT_WORLD_BVH_SSE:
         return walk_base(w, ray, time, tmin, best_t, best, RT_BVH_HAVE_SSE2, anyhit);
     case RT_WORLD_BVH_SCALAR:
@@ -84,25 +97,43 @@ static inline __attribute__((always_inline)) int query(const rt_world *w, const 
     }
 }
 
-int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
+static int walk_other(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
 {
     double best_t = tmax;
     uint32_t best = UINT32_MAX;
     query(w, ray, time, tmin, &best_t, &best, 0);
-    if (best == UINT32_MAX)
-        return 0;
-    hit->t = best_t;
-    hit->kind = best < w->nq ? RT_SHAPE_QUAD : best < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
-    hit->index = best < w->nq ? best : best < w->ns ? best - w->nq : best - w->ns;
-    return 1;
+    return hit_of(w, best_t, best, hit);
+}
+
+static int any_other(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t item)
+{
+    double best_t = tmax;
+    uint32_t best = item;
+    return query(w, ray, time, tmin, &best_t, &best, 1);
+}
+
+void rt_world_pick(rt_world *w)
+{
+    w->closest = walk_other;
+    w->occluded = any_other;
+#if RT_BVH_HAVE_AVX
+    if (w->n_nodes && w->mode == RT_WORLD_BVH) {
+        w->closest = walk_avx;
+        w->occluded = any_avx;
+    }
+#endif
+}
+
+int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit)
+{
+    return w->closest(w, ray, time, tmin, tmax, hit);
 }
 
 int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t kind,
                       uint32_t index)
 {
-    double best_t = tmax;
-    uint32_t best = kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : w->ns + index;
-    return query(w, ray, time, tmin, &best_t, &best, 1);
+    return w->occluded(w, ray, time, tmin, tmax,
+                       kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : w->ns + index);
 }
 
 int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_ray *ray, double time, double tmin,

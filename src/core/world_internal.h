@@ -34,18 +34,31 @@ typedef struct wide {
     int32_t nchild; /* bit mask of the child slots in use */
 } wide;
 
+/* rt_world_closest's and rt_world_occluded's work for the world's mode. */
+typedef int (*rt_world_closest_fn)(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax,
+                                   rt_whit *hit);
+typedef int (*rt_world_occluded_fn)(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax,
+                                    uint32_t item);
+
 struct rt_world {
     const rt_scene *s;
+    rt_world_closest_fn closest;   /* chosen once, at the end of the build (rt_world_pick) */
+    rt_world_occluded_fn occluded; /* its item: the shape whose hit is at tmax */
     quad_x *quads;
     quad_x *hull; /* the media's boundary quads, prepared once */
     uint32_t nq, ns, nitems; /* items: quads 0..nq-1, the moving spheres nq..ns-1, then the static spheres */
     uint32_t *items;     /* leaf order (the build's) */
+    uint32_t *mat;       /* each item's material, for the hits */
     wide *nodes;
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
     rt_perlin perlin;
     double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
 };
+
+/* Sets w's queries for its mode and tree (world_closest.c): the last step
+ * of the build. */
+void rt_world_pick(rt_world *w);
 
 /* The book's quad test: the plane, then the edge coordinates in [0, 1]. */
 static inline int rt_quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, double *t)

@@ -16,6 +16,7 @@
 #include "lights.h"
 #include "scenes.h"
 #include "status.h"
+#include "world.h"
 
 static const char *const MODE[] = {"MIS", "BSDF sampling", "light sampling"};
 
@@ -141,6 +142,23 @@ static void check_furnace(int glass)
     const rt_renderer r = renderer(&s, &a, 8, 8, 50, RT_LIGHT_MIS, 0);
     CHECK(r.lights != NULL && rt_lights_count(r.lights) == 8);
     CHECK_EQ_INT(rt_lights_target_count(r.lights), glass ? 1 : 0);
+    CHECK_EQ_INT(r.light_targets, glass ? 1 : 0);
+    /* a sampled light's material and place in the list are its shape's */
+    rt_rng rng = rt_rng_for_stream(7, 1);
+    int same = 0;
+    for (int k = 0; k < 64; k++) {
+        const rt_vec3 p = rt_v3(rt_rng_double(&rng) * 4 - 2, rt_rng_double(&rng) * 4 - 2, rt_rng_double(&rng) * 4 - 2);
+        rt_light_dir ld;
+        if (!rt_lights_sample(r.lights, p, 0.5, rt_rng_double(&rng), rt_rng_next(&rng), &ld)) {
+            same++;
+            continue;
+        }
+        const rt_whit h = {1.0, ld.kind, ld.index, 0};
+        same += ld.material == rt_world_material(r.world, &h) &&
+                rt_lights_pdf_of(r.lights, ld.light, p, 0.5, ld.dir, 1.5) ==
+                    rt_lights_pdf(r.lights, p, 0.5, ld.dir, ld.kind, ld.index, 1.5);
+    }
+    CHECK_EQ_INT(same, 64);
     stat st = {{0}, {0}, 0};
     for (uint32_t y = 0; y < 8; y++)
         for (uint32_t x = 0; x < 8; x++)

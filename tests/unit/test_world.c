@@ -109,11 +109,12 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
             d = rt_v3(0, i % 32 == 1 ? -1 : 0, i % 32 == 1 ? 0 : 1);
         const rt_ray r = ray_of(o, d);
         const double time = rt_rng_double(&rng);
-        rt_whit a = {0, 0, 0}, b = {0, 0, 0};
+        rt_whit a = {0, 0, 0, 0}, b = {0, 0, 0, 0};
         const int ha = rt_world_closest(wb, &r, time, 0.001, INFINITY, &a);
         const int hb = rt_world_closest(wf, &r, time, 0.001, INFINITY, &b);
         hits += hb;
-        same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index));
+        same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index &&
+                                     a.material == b.material && a.material == rt_world_material(wb, &a)));
         rt_hit sh; /* the sphere BVH's hit, which the world's must be unless a quad or mover is as near */
         const int hs = s.n_spheres && rt_accel_closest(acc, &r, 0.001, INFINITY, &sh);
         spheres += ha && a.kind == RT_SHAPE_SPHERE;
