@@ -20,6 +20,11 @@
  * which do not change after rt_root_new. */
 struct rt_root {
     pthread_mutex_t mu;
+    /* Rank 0's render thread waits on it when it has nothing to render
+     * (rt_root_wait); broadcast wherever its take may stop saying -1: a
+     * frame released, units requeued, an error, a stop, rt_root_wake. */
+    pthread_cond_t more;
+    int woken; /* rt_root_wake was called: the next wait returns */
     const rt_farm_rank0 *own; /* its image and hooks */
     rt_assembly as;
     rt_ledger led;
@@ -37,6 +42,7 @@ rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks
         return NULL;
     }
     pthread_mutex_init(&R->mu, NULL);
+    pthread_cond_init(&R->more, NULL);
     R->own = own;
     R->t0 = R->last_save = t0;
     /* a frame job: one schedule of its frames' rows, the cap on frames in flight */
@@ -53,6 +59,7 @@ rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks
     if (!st && (st = rt_ledger_init(&R->led, &R->as.sched, ranks)) != RT_OK)
         rt_assembly_free(&R->as);
     if (st) {
+        pthread_cond_destroy(&R->more);
         pthread_mutex_destroy(&R->mu);
         free(R);
         *status = st;
@@ -68,8 +75,18 @@ void rt_root_free(rt_root *R)
         return;
     rt_assembly_free(&R->as);
     rt_ledger_free(&R->led);
+    pthread_cond_destroy(&R->more);
     pthread_mutex_destroy(&R->mu);
     free(R);
+}
+
+/* Under mu: status (non-zero) becomes the error unless there is one; a
+ * waiting render thread must see it. */
+static void set_error(rt_root *R, int status)
+{
+    if (status && !R->error)
+        R->error = status;
+    pthread_cond_broadcast(&R->more);
 }
 
 uint32_t rt_root_units(const rt_root *R) { return R->as.sched.n_units; }
@@ -88,8 +105,8 @@ void rt_root_add(rt_root *R, const rt_unit *u, const int64_t *sums, uint64_t seg
     int st = rt_ledger_done(&R->led, 0, u->id) && rt_ledger_in(&R->led, 0, u->id)
                  ? rt_assembly_add(&R->as, 0, u, sums, segs, start, end)
                  : RT_EINVAL;
-    if (st && !R->error)
-        R->error = st;
+    if (st)
+        set_error(R, st);
     pthread_mutex_unlock(&R->mu);
 }
 
@@ -97,6 +114,24 @@ void rt_root_fail(rt_root *R, int status)
 {
     pthread_mutex_lock(&R->mu);
     R->error = status;
+    pthread_cond_broadcast(&R->more);
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_wake(rt_root *R)
+{
+    pthread_mutex_lock(&R->mu);
+    R->woken = 1;
+    pthread_cond_broadcast(&R->more);
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_wait(rt_root *R)
+{
+    pthread_mutex_lock(&R->mu);
+    while (!R->woken && !R->error && !RT_FARM_STOPPED() && rt_ledger_waiting(&R->led, &R->as.sched, 0))
+        pthread_cond_wait(&R->more, &R->mu);
+    R->woken = 0;
     pthread_mutex_unlock(&R->mu);
 }
 
@@ -122,8 +157,8 @@ int rt_root_take(rt_root *R, int rank, rt_unit *u)
         /* a frame job: the unit's frame has its sums from now on */
         const uint32_t before = R->as.in_flight, k = rt_sched_frame(&R->as.sched, u->y0);
         int st = rt_assembly_open(&R->as, u, rt_now() - R->t0);
-        if (st && !R->error)
-            R->error = st;
+        if (st)
+            set_error(R, st);
         const rt_farm_hooks *h = &R->own->hooks;
         if (R->as.in_flight > before && h->frame_open)
             h->frame_open(h->client, k);
@@ -299,6 +334,7 @@ static uint32_t frames_hook(rt_root *R)
          * the hook keeps. */
         pthread_mutex_lock(&R->mu);
         rt_sched_release(&R->as.sched, f.index);
+        pthread_cond_broadcast(&R->more); /* units of a later frame may be ready */
         pthread_mutex_unlock(&R->mu);
     }
 }
@@ -380,6 +416,8 @@ uint32_t rt_root_lose(rt_root *R, int rank, double now, double heard, int *compl
      * whose sums it still held */
     const double redone = rt_ledger_held_sum(&R->led, rank, R->as.unit_secs);
     uint32_t back = rt_ledger_lose(&R->led, rank);
+    if (back)
+        pthread_cond_broadcast(&R->more); /* its units are ready again */
     rt_rank_stats *st = &R->as.stats[rank];
     st->lost = 1;
     st->lost_at = now - R->t0;
@@ -432,8 +470,8 @@ int rt_root_sums(rt_root *R, int rank, const rt_msg_piece *pc)
             return RT_EINVAL;
         }
     int st = rt_assembly_sums(&R->as, &block, pc->sums, pc->n_ids);
-    if (st && !R->error)
-        R->error = st;
+    if (st)
+        set_error(R, st);
     pthread_mutex_unlock(&R->mu);
     return RT_OK;
 }
