@@ -215,40 +215,79 @@ static void frames_release(frames_copy *c)
     free(c->committed);
 }
 
+/* Under mu: whether frame k is in flight for the checkpoint (it has sums
+ * and is not complete: a complete one is the frame hook's, or will be). */
+static int ckpt_frame(const rt_root *R, uint32_t k)
+{
+    return R->as.facc[k] && !rt_sched_frame_complete(&R->as.sched, k);
+}
+
+/* Under mu: how many frames are in flight (at most the cap). */
+static uint32_t ckpt_frames(const rt_root *R)
+{
+    const rt_sched *sc = &R->as.sched;
+    uint32_t n = 0;
+    for (uint32_t k = sc->low; k < sc->frames && n < sc->cap; k++)
+        n += ckpt_frame(R, k);
+    return n;
+}
+
+/* The copy's buffers for n frames (pages mapped); RT_ENOMEM. */
+static int frames_alloc(frames_copy *c, uint32_t n, uint32_t H)
+{
+    const size_t m = n ? n : 1; /* malloc(0) may be NULL */
+    c->fr.n = n;
+    c->index = malloc(m * sizeof *c->index);
+    c->committed = malloc(m * H * sizeof *c->committed);
+    c->acc = calloc(m, sizeof *c->acc);
+    int ok = c->index && c->committed && c->acc;
+    for (uint32_t i = 0; ok && i < n; i++)
+        ok = (c->acc[i] = rt_mem_zeroed(c->bytes)) != NULL;
+    return ok ? RT_OK : RT_ENOMEM;
+}
+
+/* Counts the frames in flight first, allocates that many copies (outside
+ * the lock), then copies them under it; when more came in flight
+ * meanwhile, it counts again. */
 static int frames_snapshot(rt_root *R, frames_copy *c)
 {
-    memset(c, 0, sizeof *c);
     const rt_sched *sc = &R->as.sched;
-    const uint32_t H = sc->frame_rows, cap = sc->cap;
-    c->bytes = rt_assembly_frame_bytes(&R->as);
-    c->index = malloc(cap * sizeof *c->index);
-    c->committed = malloc((size_t)cap * H * sizeof *c->committed);
-    c->acc = calloc(cap, sizeof *c->acc);
-    for (uint32_t i = 0; c->acc && i < cap; i++)
-        if (!(c->acc[i] = rt_mem_zeroed(c->bytes)))
-            break;
-    if (!c->index || !c->committed || !c->acc || !c->acc[cap - 1]) {
-        c->fr.n = cap;
-        frames_release(c);
-        return RT_ENOMEM;
+    const uint32_t H = sc->frame_rows;
+    for (;;) {
+        memset(c, 0, sizeof *c);
+        c->bytes = rt_assembly_frame_bytes(&R->as);
+        pthread_mutex_lock(&R->mu);
+        const uint32_t want = ckpt_frames(R);
+        pthread_mutex_unlock(&R->mu);
+        if (frames_alloc(c, want, H) != RT_OK) {
+            frames_release(c);
+            return RT_ENOMEM;
+        }
+        pthread_mutex_lock(&R->mu);
+        uint32_t n = ckpt_frames(R);
+        if (n <= want) {
+            n = 0;
+            for (uint32_t k = sc->low; k < sc->frames && n < want; k++) {
+                if (!ckpt_frame(R, k))
+                    continue;
+                c->index[n] = k;
+                memcpy(c->committed + (size_t)n * H, sc->committed + (size_t)k * H, H * sizeof *c->committed);
+                memcpy(c->acc[n++], R->as.facc[k], c->bytes);
+            }
+            R->as.dirty = 0;
+        }
+        pthread_mutex_unlock(&R->mu);
+        if (n > want) {
+            frames_release(c); /* more frames in flight now: again */
+            continue;
+        }
+        for (uint32_t i = n; i < want; i++) { /* frames completed meanwhile */
+            rt_mem_free(c->acc[i], c->bytes);
+            c->acc[i] = NULL;
+        }
+        c->fr = (rt_farm_frames){.n = n, .index = c->index, .committed = c->committed, .acc = c->acc};
+        return RT_OK;
     }
-    pthread_mutex_lock(&R->mu);
-    uint32_t n = 0;
-    for (uint32_t k = sc->low; k < sc->frames && n < cap; k++) {
-        if (!R->as.facc[k] || rt_sched_frame_complete(sc, k))
-            continue; /* no sums yet, or complete (the frame hook has it, or will) */
-        c->index[n] = k;
-        memcpy(c->committed + (size_t)n * H, sc->committed + (size_t)k * H, H * sizeof *c->committed);
-        memcpy(c->acc[n++], R->as.facc[k], c->bytes);
-    }
-    R->as.dirty = 0;
-    pthread_mutex_unlock(&R->mu);
-    for (uint32_t i = n; i < cap; i++) {
-        rt_mem_free(c->acc[i], c->bytes);
-        c->acc[i] = NULL;
-    }
-    c->fr = (rt_farm_frames){.n = n, .index = c->index, .committed = c->committed, .acc = c->acc};
-    return RT_OK;
 }
 
 /* After each progressive pass but the last (the final image, which the
