@@ -258,6 +258,9 @@ static void print_ranks(int ranks, const rt_farm_result *res)
                res->msgs_in, (double)res->bytes_in / 1e6, res->serve_cpu, res->final_combine);
     if (res->lost)
         printf("lost ranks:    %d (their units were rendered again by the others)\n", res->lost);
+    if (res->render_waits)
+        printf("rank 0 waited: %" PRIu64 " times for units (the frames in flight), %.3f s, %.4f s CPU\n",
+               res->render_waits, res->ranks[0].wait, res->render_wait_cpu);
     for (int i = 0; i < ranks && ranks > 1; i++) {
         const rt_rank_stats *r = &res->ranks[i];
         printf("rank %d: %.0f units, %.1f rows, %.3f s busy, %.3f s waiting, %.3f s communicating, "

@@ -9,5 +9,8 @@
 void rt_sysinfo_hostname(char *buf, size_t n);
 /* Peak resident memory of this process in MB (0 when unknown). */
 double rt_sysinfo_peak_mb(void);
+/* CPU seconds (user and system) of the calling thread so far (0 when
+ * unknown). */
+double rt_sysinfo_thread_cpu(void);
 
 #endif

@@ -136,13 +136,22 @@ uint32_t rt_render_pilot(const rt_renderer *r, uint32_t x, uint32_t y, uint64_t 
  * any thread of the team; take may run while done does. poll, when not
  * NULL, is called by the team's master thread only (the thread that called
  * rt_render_stream), after each pixel it renders (it must return quickly
- * when it has nothing to do) and over and over while it has nothing to
- * render (idle = 1: it may sleep a little); it returns non-zero when it
- * may have brought units for take. */
+ * when it has nothing to do; idle = 0) and over and over while it has
+ * nothing to render: idle = RT_POLL_NONE_YET right after its take said -1
+ * (it may sleep a little, or wait until take may have units or wake is
+ * called), RT_POLL_BUSY while every unit in hand is being rendered by the
+ * other threads. It returns 1 when it may have brought units for take, 0
+ * when not, and -1 (when busy) to have the master wait for a unit in hand
+ * to be done instead of polling again. wake, when not NULL, is called by
+ * each other thread of the team as it leaves the stream (no unit left, a
+ * failure, or *r->stop), outside the team's lock: a poll waiting must
+ * return then, so that the master sees why. */
+enum { RT_POLL_NONE_YET = 1, RT_POLL_BUSY = 2 };
 typedef struct rt_render_source {
     int (*take)(void *ctx, rt_unit *u);
     void (*done)(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segments);
     int (*poll)(void *ctx, int idle);
+    void (*wake)(void *ctx);
     /* When not NULL, each unit is rendered by its own renderer (a frame
      * job's frame: its camera and shutter): the renderer of u into *r and
      * the row of *r's image that u->y0 is into *y0, called once per unit

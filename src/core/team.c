@@ -50,6 +50,16 @@ typedef struct stream {
     int n_units;
 } stream;
 
+/* Under st->mu: every unit slot is held, and the stream goes on (a slot
+ * freed, a failure or the end of the units are broadcast on freed). */
+static int every_slot_busy(const stream *st)
+{
+    for (int k = 0; k < st->n_units; k++)
+        if (!st->units[k].held)
+            return 0;
+    return !st->status && !st->exhausted && !rt_dispatch_stopped(st->r);
+}
+
 /* The next run of pixels for the calling thread, under st->mu: from the
  * oldest unit in hand that has pixels left, else from a new unit; waits
  * while every unit is given out and none can be taken. Returns the unit,
@@ -118,12 +128,15 @@ static stream_unit *stream_claim(stream *st, int master, long *a, long *b)
             return NULL; /* the last units' runs are all given out (or none is left) */
         if (master && st->src->poll) {
             /* the master keeps the source's communication going while it
-             * waits: for a unit, or for a unit in hand to be done */
+             * waits: for a unit (take said none yet: an empty slot), or
+             * for a unit in hand to be done (no empty slot) */
             pthread_mutex_unlock(&st->mu);
-            int more = st->src->poll(st->src->ctx, 1);
+            int more = st->src->poll(st->src->ctx, empty ? RT_POLL_NONE_YET : RT_POLL_BUSY);
             pthread_mutex_lock(&st->mu);
-            if (more)
+            if (more > 0)
                 pthread_cond_broadcast(&st->freed);
+            else if (more < 0 && !empty && every_slot_busy(st))
+                pthread_cond_wait(&st->freed, &st->mu);
         } else {
             pthread_cond_wait(&st->freed, &st->mu);
         }
@@ -171,6 +184,8 @@ static void stream_thread(stream *st)
     }
     pthread_cond_broadcast(&st->freed); /* a waiting thread may have to leave too */
     pthread_mutex_unlock(&st->mu);
+    if (!master && st->src->wake)
+        st->src->wake(st->src->ctx); /* so may the master, waiting in the source's poll */
 }
 
 int rt_render_stream(const rt_renderer *r, int nthreads, const rt_render_source *src)

@@ -177,6 +177,11 @@ typedef struct rt_farm_result {
     uint64_t msgs_in;       /* messages rank 0 received */
     uint64_t bytes_in;      /* bytes rank 0 received */
     double serve_cpu;       /* CPU seconds of rank 0's main thread (the server) */
+    /* A frame job's cap: how often rank 0's render thread had nothing to
+     * render and waited (rt_root_wait), and its CPU seconds meanwhile (the
+     * seconds are ranks[0].wait) */
+    uint64_t render_waits;
+    double render_wait_cpu;
     double final_combine;   /* seconds from the last unit rendered to the last sums in */
 } rt_farm_result;
 

@@ -52,6 +52,13 @@ void rt_root_rows(rt_root *R, uint32_t *done, uint32_t *rows);
 void rt_root_add(rt_root *R, const rt_unit *u, const int64_t *sums, uint64_t segs, double start, double end);
 /* Rank 0's rendering failed with status: it becomes the error. */
 void rt_root_fail(rt_root *R, int status);
+/* Rank 0's render thread, when its take said -1: waits until it may not
+ * any more (a frame released, a lost rank's units requeued), an error or
+ * a stop, or rt_root_wake; no timeout, no polling. */
+void rt_root_wait(rt_root *R);
+/* Makes the current or next rt_root_wait return (its caller has another
+ * reason to look: its own threads are leaving, a signal came). */
+void rt_root_wake(rt_root *R);
 /* The render is over: the per-rank stats (rank 0's peak memory and host
  * name filled in here), trace and segments move into res. */
 void rt_root_finish(rt_root *R, rt_farm_result *res);

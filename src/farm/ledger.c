@@ -85,27 +85,35 @@ void rt_ledger_free(rt_ledger *L)
     memset(L, 0, sizeof *L);
 }
 
+/* The group rank's next new unit comes from: its own while ready, else
+ * the first not begun, else any with units left; -1 when none is ready
+ * (the cap), -2 when none is left. */
+static int32_t next_group(rt_ledger *L, const rt_sched *s, int rank)
+{
+#define READY(g) rt_sched_ready(s, &s->units[L->gfirst[g] + L->gnext[g]])
+    int32_t g = L->cur[rank];
+    if (g >= 0 && L->gnext[g] < L->glen[g] && READY(g))
+        return g;
+    while (L->fresh < L->n_groups && L->gnext[L->fresh] > 0)
+        L->fresh++;
+    while (L->any < L->n_groups && L->gnext[L->any] == L->glen[L->any])
+        L->any++;
+    if (L->fresh < L->n_groups && READY(L->fresh))
+        return (int32_t)L->fresh;
+    if (L->any < L->n_groups && READY(L->any))
+        return (int32_t)L->any;
+#undef READY
+    return L->fresh < L->n_groups || L->any < L->n_groups ? -1 : -2;
+}
+
 int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u)
 {
     if (L->n_requeue) {
         *u = s->units[L->requeue[--L->n_requeue]];
     } else {
-        /* a group's next unit, when ready (a frame job's cap) */
-#define READY(g) rt_sched_ready(s, &s->units[L->gfirst[g] + L->gnext[g]])
-        int32_t g = L->cur[rank];
-        if (g < 0 || L->gnext[g] == L->glen[g] || !READY(g)) {
-            while (L->fresh < L->n_groups && L->gnext[L->fresh] > 0)
-                L->fresh++;
-            while (L->any < L->n_groups && L->gnext[L->any] == L->glen[L->any])
-                L->any++;
-            if (L->fresh < L->n_groups && READY(L->fresh))
-                g = (int32_t)L->fresh;
-            else if (L->any < L->n_groups && READY(L->any))
-                g = (int32_t)L->any;
-            else
-                return L->fresh < L->n_groups || L->any < L->n_groups ? -1 : 0;
-        }
-#undef READY
+        int32_t g = next_group(L, s, rank);
+        if (g < 0)
+            return g == -1 ? -1 : 0;
         *u = s->units[L->gfirst[g] + L->gnext[g]++];
         L->cur[rank] = g;
     }
@@ -113,6 +121,11 @@ int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u)
     L->owner[u->id] = rank;
     L->assigned[rank]++;
     return 1;
+}
+
+int rt_ledger_waiting(rt_ledger *L, const rt_sched *s, int rank)
+{
+    return !L->n_requeue && next_group(L, s, rank) == -1;
 }
 
 int rt_ledger_done(rt_ledger *L, int rank, uint32_t id)

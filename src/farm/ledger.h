@@ -52,6 +52,9 @@ void rt_ledger_free(rt_ledger *L);
  * ready yet (a frame job's cap, rt_sched_ready: they are once an earlier
  * frame completes). */
 int rt_ledger_take(rt_ledger *L, rt_sched *s, int rank, rt_unit *u);
+/* 1 when rt_ledger_take would say -1 for rank now (none ready yet); it
+ * changes only when a frame is released or units are requeued. */
+int rt_ledger_waiting(rt_ledger *L, const rt_sched *s, int rank);
 /* rank reports unit id done: 1, or 0 when the unit is not assigned to it
  * (a report of a lost rank, or a bad id). */
 int rt_ledger_done(rt_ledger *L, int rank, uint32_t id);

@@ -9,7 +9,6 @@
 
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #ifdef RT_HAVE_MPI
 #include <mpi.h>
@@ -42,6 +41,10 @@ typedef struct local {
     int serial;    /* no server: the render loop calls the hooks itself */
     double *taken; /* per unit id: when it was taken */
     double last;   /* when the previous unit was done */
+    /* local_poll's (the team's master alone calls it): the waits, their
+     * seconds and the thread's CPU seconds in them */
+    uint64_t waits;
+    double waited, wait_cpu;
 } local;
 
 static int local_take(void *ctx, rt_unit *u)
@@ -53,17 +56,33 @@ static int local_take(void *ctx, rt_unit *u)
     return got;
 }
 
-/* A frame job's units may not be ready yet (the cap): while rank 0 has
- * nothing to render it naps and tries again (a frame completes with the
- * workers' sums, taken in by the main thread, or with its own units). */
+/* A frame job's units may not be ready yet (the cap). When its take said
+ * so, the team's master waits (rt_root_wait) until a frame is released (by
+ * the main thread once the workers' sums are in; alone, by the thread whose
+ * unit completes it), units are requeued, the job fails or stops, or
+ * another of its threads leaves the team (local_wake). Alone, no other
+ * thread hands frames on: it ticks first, so that it never waits on
+ * itself. When every unit in hand is being rendered, the team waits for
+ * one. It never naps and polls. */
 static int local_poll(void *ctx, int idle)
 {
-    (void)ctx;
-    if (!idle)
-        return 0;
-    struct timespec ts = {0, 200000L};
-    nanosleep(&ts, NULL);
+    local *L = ctx;
+    if (idle != RT_POLL_NONE_YET)
+        return idle ? -1 : 0;
+    if (L->serial)
+        rt_root_tick(L->R);
+    const double t = rt_now(), cpu = rt_sysinfo_thread_cpu();
+    rt_root_wait(L->R);
+    L->waits++;
+    L->waited += rt_now() - t;
+    L->wait_cpu += rt_sysinfo_thread_cpu() - cpu;
     return 1;
+}
+
+static void local_wake(void *ctx)
+{
+    local *L = ctx;
+    rt_root_wake(L->R);
 }
 
 static void local_done(void *ctx, const rt_unit *u, const int64_t *sums, uint64_t segs)
@@ -81,7 +100,12 @@ static void *local_loop(void *arg)
     local *L = arg;
     uint32_t n = rt_root_units(L->R);
     L->taken = calloc(n ? n : 1, sizeof *L->taken);
-    rt_render_source src = {.take = local_take, .done = local_done, .poll = L->job->frames ? local_poll : NULL, .ctx = L};
+    const int frames = L->job->frames != 0;
+    rt_render_source src = {.take = local_take,
+                            .done = local_done,
+                            .poll = frames ? local_poll : NULL,
+                            .wake = frames ? local_wake : NULL,
+                            .ctx = L};
     int st = L->taken ? rt_farm_run_units(L->job, &src) : RT_ENOMEM;
     if (st)
         rt_root_fail(L->R, st);
@@ -119,6 +143,10 @@ static void run_root(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *ow
         rt_farm_fail(f, RT_EXIT_RUNTIME, "rendering failed: %s", rt_status_str(st));
     res->wall = rt_now() - t0;
     rt_root_finish(R, res);
+    if (res->ranks)
+        res->ranks[0].wait = L.waited;
+    res->render_waits = L.waits;
+    res->render_wait_cpu = L.wait_cpu;
     rt_root_free(R);
 }
 

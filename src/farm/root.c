@@ -20,6 +20,11 @@
  * which do not change after rt_root_new. */
 struct rt_root {
     pthread_mutex_t mu;
+    /* Rank 0's render thread waits on it when it has nothing to render
+     * (rt_root_wait); broadcast wherever its take may stop saying -1: a
+     * frame released, units requeued, an error, a stop, rt_root_wake. */
+    pthread_cond_t more;
+    int woken; /* rt_root_wake was called: the next wait returns */
     const rt_farm_rank0 *own; /* its image and hooks */
     rt_assembly as;
     rt_ledger led;
@@ -37,6 +42,7 @@ rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks
         return NULL;
     }
     pthread_mutex_init(&R->mu, NULL);
+    pthread_cond_init(&R->more, NULL);
     R->own = own;
     R->t0 = R->last_save = t0;
     /* a frame job: one schedule of its frames' rows, the cap on frames in flight */
@@ -53,6 +59,7 @@ rt_root *rt_root_new(const rt_farm_job *job, const rt_farm_rank0 *own, int ranks
     if (!st && (st = rt_ledger_init(&R->led, &R->as.sched, ranks)) != RT_OK)
         rt_assembly_free(&R->as);
     if (st) {
+        pthread_cond_destroy(&R->more);
         pthread_mutex_destroy(&R->mu);
         free(R);
         *status = st;
@@ -68,8 +75,18 @@ void rt_root_free(rt_root *R)
         return;
     rt_assembly_free(&R->as);
     rt_ledger_free(&R->led);
+    pthread_cond_destroy(&R->more);
     pthread_mutex_destroy(&R->mu);
     free(R);
+}
+
+/* Under mu: status (non-zero) becomes the error unless there is one; a
+ * waiting render thread must see it. */
+static void set_error(rt_root *R, int status)
+{
+    if (status && !R->error)
+        R->error = status;
+    pthread_cond_broadcast(&R->more);
 }
 
 uint32_t rt_root_units(const rt_root *R) { return R->as.sched.n_units; }
@@ -88,8 +105,8 @@ void rt_root_add(rt_root *R, const rt_unit *u, const int64_t *sums, uint64_t seg
     int st = rt_ledger_done(&R->led, 0, u->id) && rt_ledger_in(&R->led, 0, u->id)
                  ? rt_assembly_add(&R->as, 0, u, sums, segs, start, end)
                  : RT_EINVAL;
-    if (st && !R->error)
-        R->error = st;
+    if (st)
+        set_error(R, st);
     pthread_mutex_unlock(&R->mu);
 }
 
@@ -97,6 +114,24 @@ void rt_root_fail(rt_root *R, int status)
 {
     pthread_mutex_lock(&R->mu);
     R->error = status;
+    pthread_cond_broadcast(&R->more);
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_wake(rt_root *R)
+{
+    pthread_mutex_lock(&R->mu);
+    R->woken = 1;
+    pthread_cond_broadcast(&R->more);
+    pthread_mutex_unlock(&R->mu);
+}
+
+void rt_root_wait(rt_root *R)
+{
+    pthread_mutex_lock(&R->mu);
+    while (!R->woken && !R->error && !RT_FARM_STOPPED() && rt_ledger_waiting(&R->led, &R->as.sched, 0))
+        pthread_cond_wait(&R->more, &R->mu);
+    R->woken = 0;
     pthread_mutex_unlock(&R->mu);
 }
 
@@ -122,8 +157,8 @@ int rt_root_take(rt_root *R, int rank, rt_unit *u)
         /* a frame job: the unit's frame has its sums from now on */
         const uint32_t before = R->as.in_flight, k = rt_sched_frame(&R->as.sched, u->y0);
         int st = rt_assembly_open(&R->as, u, rt_now() - R->t0);
-        if (st && !R->error)
-            R->error = st;
+        if (st)
+            set_error(R, st);
         const rt_farm_hooks *h = &R->own->hooks;
         if (R->as.in_flight > before && h->frame_open)
             h->frame_open(h->client, k);
@@ -180,40 +215,79 @@ static void frames_release(frames_copy *c)
     free(c->committed);
 }
 
+/* Under mu: whether frame k is in flight for the checkpoint (it has sums
+ * and is not complete: a complete one is the frame hook's, or will be). */
+static int ckpt_frame(const rt_root *R, uint32_t k)
+{
+    return R->as.facc[k] && !rt_sched_frame_complete(&R->as.sched, k);
+}
+
+/* Under mu: how many frames are in flight (at most the cap). */
+static uint32_t ckpt_frames(const rt_root *R)
+{
+    const rt_sched *sc = &R->as.sched;
+    uint32_t n = 0;
+    for (uint32_t k = sc->low; k < sc->frames && n < sc->cap; k++)
+        n += ckpt_frame(R, k);
+    return n;
+}
+
+/* The copy's buffers for n frames (pages mapped); RT_ENOMEM. */
+static int frames_alloc(frames_copy *c, uint32_t n, uint32_t H)
+{
+    const size_t m = n ? n : 1; /* malloc(0) may be NULL */
+    c->fr.n = n;
+    c->index = malloc(m * sizeof *c->index);
+    c->committed = malloc(m * H * sizeof *c->committed);
+    c->acc = calloc(m, sizeof *c->acc);
+    int ok = c->index && c->committed && c->acc;
+    for (uint32_t i = 0; ok && i < n; i++)
+        ok = (c->acc[i] = rt_mem_zeroed(c->bytes)) != NULL;
+    return ok ? RT_OK : RT_ENOMEM;
+}
+
+/* Counts the frames in flight first, allocates that many copies (outside
+ * the lock), then copies them under it; when more came in flight
+ * meanwhile, it counts again. */
 static int frames_snapshot(rt_root *R, frames_copy *c)
 {
-    memset(c, 0, sizeof *c);
     const rt_sched *sc = &R->as.sched;
-    const uint32_t H = sc->frame_rows, cap = sc->cap;
-    c->bytes = rt_assembly_frame_bytes(&R->as);
-    c->index = malloc(cap * sizeof *c->index);
-    c->committed = malloc((size_t)cap * H * sizeof *c->committed);
-    c->acc = calloc(cap, sizeof *c->acc);
-    for (uint32_t i = 0; c->acc && i < cap; i++)
-        if (!(c->acc[i] = rt_mem_zeroed(c->bytes)))
-            break;
-    if (!c->index || !c->committed || !c->acc || !c->acc[cap - 1]) {
-        c->fr.n = cap;
-        frames_release(c);
-        return RT_ENOMEM;
+    const uint32_t H = sc->frame_rows;
+    for (;;) {
+        memset(c, 0, sizeof *c);
+        c->bytes = rt_assembly_frame_bytes(&R->as);
+        pthread_mutex_lock(&R->mu);
+        const uint32_t want = ckpt_frames(R);
+        pthread_mutex_unlock(&R->mu);
+        if (frames_alloc(c, want, H) != RT_OK) {
+            frames_release(c);
+            return RT_ENOMEM;
+        }
+        pthread_mutex_lock(&R->mu);
+        uint32_t n = ckpt_frames(R);
+        if (n <= want) {
+            n = 0;
+            for (uint32_t k = sc->low; k < sc->frames && n < want; k++) {
+                if (!ckpt_frame(R, k))
+                    continue;
+                c->index[n] = k;
+                memcpy(c->committed + (size_t)n * H, sc->committed + (size_t)k * H, H * sizeof *c->committed);
+                memcpy(c->acc[n++], R->as.facc[k], c->bytes);
+            }
+            R->as.dirty = 0;
+        }
+        pthread_mutex_unlock(&R->mu);
+        if (n > want) {
+            frames_release(c); /* more frames in flight now: again */
+            continue;
+        }
+        for (uint32_t i = n; i < want; i++) { /* frames completed meanwhile */
+            rt_mem_free(c->acc[i], c->bytes);
+            c->acc[i] = NULL;
+        }
+        c->fr = (rt_farm_frames){.n = n, .index = c->index, .committed = c->committed, .acc = c->acc};
+        return RT_OK;
     }
-    pthread_mutex_lock(&R->mu);
-    uint32_t n = 0;
-    for (uint32_t k = sc->low; k < sc->frames && n < cap; k++) {
-        if (!R->as.facc[k] || rt_sched_frame_complete(sc, k))
-            continue; /* no sums yet, or complete (the frame hook has it, or will) */
-        c->index[n] = k;
-        memcpy(c->committed + (size_t)n * H, sc->committed + (size_t)k * H, H * sizeof *c->committed);
-        memcpy(c->acc[n++], R->as.facc[k], c->bytes);
-    }
-    R->as.dirty = 0;
-    pthread_mutex_unlock(&R->mu);
-    for (uint32_t i = n; i < cap; i++) {
-        rt_mem_free(c->acc[i], c->bytes);
-        c->acc[i] = NULL;
-    }
-    c->fr = (rt_farm_frames){.n = n, .index = c->index, .committed = c->committed, .acc = c->acc};
-    return RT_OK;
 }
 
 /* After each progressive pass but the last (the final image, which the
@@ -299,6 +373,7 @@ static uint32_t frames_hook(rt_root *R)
          * the hook keeps. */
         pthread_mutex_lock(&R->mu);
         rt_sched_release(&R->as.sched, f.index);
+        pthread_cond_broadcast(&R->more); /* units of a later frame may be ready */
         pthread_mutex_unlock(&R->mu);
     }
 }
@@ -380,6 +455,8 @@ uint32_t rt_root_lose(rt_root *R, int rank, double now, double heard, int *compl
      * whose sums it still held */
     const double redone = rt_ledger_held_sum(&R->led, rank, R->as.unit_secs);
     uint32_t back = rt_ledger_lose(&R->led, rank);
+    if (back)
+        pthread_cond_broadcast(&R->more); /* its units are ready again */
     rt_rank_stats *st = &R->as.stats[rank];
     st->lost = 1;
     st->lost_at = now - R->t0;
@@ -432,8 +509,8 @@ int rt_root_sums(rt_root *R, int rank, const rt_msg_piece *pc)
             return RT_EINVAL;
         }
     int st = rt_assembly_sums(&R->as, &block, pc->sums, pc->n_ids);
-    if (st && !R->error)
-        R->error = st;
+    if (st)
+        set_error(R, st);
     pthread_mutex_unlock(&R->mu);
     return RT_OK;
 }

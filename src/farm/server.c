@@ -14,7 +14,6 @@
  * has nothing else to say) is lost: the ledger queues its units again for
  * the others, and whatever it sends later is dropped. The image is the same
  * bytes: every unit's sums enter it exactly once. */
-#define _GNU_SOURCE
 #include "inbox.h"
 #include "internal.h"
 #include "msg.h"
@@ -23,7 +22,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 
 #include "array.h"
 #include "clock.h"
@@ -376,15 +374,6 @@ static void ask_when_due(server *s)
         ask_sums(s);
 }
 
-static double thread_cpu(void)
-{
-    struct rusage ru;
-    if (getrusage(RUSAGE_THREAD, &ru) != 0)
-        return 0;
-    return (double)ru.ru_utime.tv_sec + 1e-6 * ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
-           1e-6 * ru.ru_stime.tv_usec;
-}
-
 void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own, rt_root *R,
                    rt_farm_result *res)
 {
@@ -395,13 +384,14 @@ void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own,
     if (!s.peers)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory on rank 0");
     s.lease = job->lease > 0 ? job->lease : RT_POLICY_LEASE;
-    double cpu0 = thread_cpu(), now = rt_now();
+    double cpu0 = rt_sysinfo_thread_cpu(), now = rt_now();
     s.next_flush = now + own->hooks.save_interval / 2;
     for (int r = 1; r < f->size; r++)
         s.peers[r] = (peer){.alive = 1, .heard = now};
     int idle = 0;
     for (;;) {
         if (RT_FARM_STOPPED()) {
+            rt_root_wake(R); /* rank 0's render thread may be waiting: it leaves */
             stop_workers(&s); /* the caller saves and ends the job */
             break;
         }
@@ -436,7 +426,7 @@ void rt_farm_serve(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own,
     for (size_t i = 0; i < s.n_outbox && !res->lost; i++)
         MPI_Wait(&s.outbox[i].req, MPI_STATUS_IGNORE);
     f->lost = res->lost;
-    res->serve_cpu = thread_cpu() - cpu0;
+    res->serve_cpu = rt_sysinfo_thread_cpu() - cpu0;
     if (!res->lost) {
         for (size_t i = 0; i < s.n_outbox; i++)
             free(s.outbox[i].buf);

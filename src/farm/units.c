@@ -41,6 +41,12 @@ static int ring_poll(void *ctx, int idle)
     return g->src->poll(g->src->ctx, idle);
 }
 
+static void ring_wake(void *ctx)
+{
+    const ring *g = ctx;
+    g->src->wake(g->src->ctx);
+}
+
 static uint32_t frame_of(const ring *g, const rt_unit *u) { return u->y0 / g->job->renderer->job.height; }
 
 static int ring_renderer(void *ctx, const rt_unit *u, const rt_renderer **r, uint32_t *y0)
@@ -82,8 +88,12 @@ int rt_farm_run_units(const rt_farm_job *job, const rt_render_source *src)
     if (!job->empty_units && job->frames) {
         ring g = {.job = job, .src = src};
         pthread_mutex_init(&g.mu, NULL);
-        const rt_render_source rs = {.take = ring_take, .done = ring_done, .poll = src->poll ? ring_poll : NULL,
-                                     .renderer = ring_renderer, .ctx = &g};
+        const rt_render_source rs = {.take = ring_take,
+                                     .done = ring_done,
+                                     .poll = src->poll ? ring_poll : NULL,
+                                     .wake = src->wake ? ring_wake : NULL,
+                                     .renderer = ring_renderer,
+                                     .ctx = &g};
         int st = rt_render_stream(job->renderer, job->threads, &rs);
         pthread_mutex_destroy(&g.mu);
         return st;

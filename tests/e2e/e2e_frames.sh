@@ -1,10 +1,11 @@
 #!/bin/bash
-# e2e_frames.sh BIN PNGINFO MPIRUN
+# e2e_frames.sh BIN PNGINFO MPIRUN HOOKS_BIN
 # Frame jobs (--frames, --frame, --turntable): bad input refused with one
 # line, exit 2 and nothing written; every frame of a range byte-identical to
 # that frame rendered alone (--frame N), for any -np, -j, --band and
-# --split; each file names its frame.
-BIN=$1 PNGINFO=$2 MPIRUN=${3:-}
+# --split; each file names its frame; rank 0's render thread waits at the
+# cap on frames in flight without polling.
+BIN=$1 PNGINFO=$2 MPIRUN=${3:-} HOOKS_BIN=${4:-}
 source "$(dirname "$0")/../support/lib.sh"
 O="$WORK/out"
 
@@ -115,6 +116,25 @@ PY
     [ -n "$overlap" ] && [ "$overlap" != wrong ] && [ "$overlap" -gt 0 ] &&
         pass "units across frames: $overlap of 5 frames start before the one before them ends" ||
         fail "units across frames: no frame starts before the one before it ends ($overlap)"
+    # Rank 0's render thread at the cap: rank 1 sleeps 200 ms after each
+    # unit (a test hook), so the first frames' units in its hands keep the
+    # cap shut while ranks 0 and 2 have rendered every unit that is ready.
+    # Rank 0's render thread then waits until a frame is released (12 in
+    # all) instead of napping and asking again: at most 2 waits a frame
+    # (one more when a worker took the unit first), where a 0.2 ms poll
+    # comes back hundreds of times; and at least one, or the cap never
+    # bound and this shows nothing.
+    if [ -n "$HOOKS_BIN" ]; then
+        rm -rf "$WORK/cap" && mkdir -p "$WORK/cap"
+        RT_TEST_SLOW_RANK=1:200 mpirun_np 3 "$HOOKS_BIN" --width 64 --height 16 -s 64 --grid 3 --turntable 90:4 \
+            -j 2 --frames 0-11 -o "$WORK/cap/f_#.png" >"$WORK/cap.out" 2>"$WORK/cap.err" ||
+            fail "rank 0 at the cap: the job failed: $(head -c 300 "$WORK/cap.err")"
+        waits=$(sed -n 's/^rank 0 waited: *\([0-9]*\) times for units .*/\1/p' "$WORK/cap.out")
+        check_eq "rank 0 at the cap: its render thread waited ${waits:-no} times (1 to 24: no polling)" \
+            "$([ -n "$waits" ] && [ "$waits" -ge 1 ] && [ "$waits" -le 24 ] && echo yes || echo no)" "yes"
+    else
+        skip "no test-hooks build: rank 0 at the cap"
+    fi
 else
     skip "mpirun not found: frame jobs over ranks"
 fi
