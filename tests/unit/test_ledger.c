@@ -159,6 +159,23 @@ int main(void)
         rt_sched_release(&fs, 0);
         CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 0, &v), 1);
         CHECK_EQ_INT(v.y0, 8); /* frame 2's */
+        /* A lost rank's units of a frame in flight: one done (its sums
+         * never sent) and one in hand. Both count again as frame 1's units
+         * left, so the frame completes only when rank 0 has done both. */
+        CHECK(rt_ledger_done(&FL, 1, got[2].id));
+        CHECK(!rt_ledger_frame_done(&FL, 1));
+        CHECK_EQ_INT(rt_ledger_lose(&FL, 1), 2);
+        CHECK_EQ_INT(FL.frame_left[1], 2);
+        for (int k = 0; k < 2; k++) {
+            rt_unit w;
+            CHECK_EQ_INT(rt_ledger_take(&FL, &fs, 0, &w), 1);
+            CHECK_EQ_INT(w.id, got[2 + k].id); /* the requeued units, earliest first */
+            CHECK(!rt_ledger_frame_done(&FL, 1));
+            CHECK(rt_ledger_done(&FL, 0, w.id));
+            CHECK(rt_ledger_in(&FL, 0, w.id));
+        }
+        CHECK(rt_ledger_frame_done(&FL, 1));
+        CHECK_EQ_INT(FL.frame_left[1], 0);
         rt_ledger_free(&FL);
         rt_sched_free(&fs);
     }
