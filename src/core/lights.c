@@ -172,6 +172,14 @@ static int is_quad(const light *L) { return (uint32_t)(L->key >> 32) == RT_SHAPE
 
 static rt_vec3 centre(const light *L, double time) { return rt_v3_add(L->a, rt_v3_scale(rt_v3_sub(L->b, L->a), time)); }
 
+/* 1 - cos of the half-angle of the cone a sphere of squared radius r2 at
+ * squared distance d2 (> r2) subtends, without cancellation. */
+static double cone_omc(double r2, double d2)
+{
+    const double sin2 = r2 / d2;
+    return sin2 / (1.0 + sqrt(1.0 - sin2));
+}
+
 /* 1 - cos of the half-angle of the cone sphere L subtends from p (> 0), or
  * 0 when p is inside it. *w: the unit direction to its centre. */
 static double cone(const light *L, rt_vec3 p, double time, rt_vec3 *w)
@@ -181,8 +189,7 @@ static double cone(const light *L, rt_vec3 p, double time, rt_vec3 *w)
     if (!(d2 > r * r))
         return 0.0;
     *w = rt_v3_scale(d, 1.0 / sqrt(d2));
-    const double sin2 = r * r / d2;
-    return sin2 / (1.0 + sqrt(1.0 - sin2)); /* 1 - cos without cancellation */
+    return cone_omc(r * r, d2);
 }
 
 /* The direction density of quad L from p for a ray that meets it at
@@ -291,8 +298,7 @@ double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 
         const double b = rt_v3_dot(dir, d), r2 = L->c.x * L->c.x, d2 = rt_v3_len2(d);
         if (!(b > 0.0) || b * b < rt_v3_len2(dir) * (d2 - r2) || !(d2 > r2))
             continue; /* the line misses the sphere (or points away), or p is inside it */
-        const double sin2 = r2 / d2; /* cone()'s 1 - cos max, without its axis */
-        sum += L->prob / (2.0 * PI * (sin2 / (1.0 + sqrt(1.0 - sin2))));
+        sum += L->prob / (2.0 * PI * cone_omc(r2, d2)); /* cone()'s, without its axis */
     }
     return sum;
 }

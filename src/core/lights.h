@@ -34,25 +34,6 @@ typedef enum rt_lights_rule {
  * 0.30 s at 64 spp). The other named scenes have one light. */
 #ifndef RT_LIGHTS_RULE
 #define RT_LIGHTS_RULE RT_LIGHTS_UNIFORM
-/* Sampling targets: the scene's static glass spheres, which emit nothing
- * but through which a diffuse vertex's light can come (a caustic: the
- * glass between the light and the vertex, or beyond it), and which only a
- * path that passes through them finds. A lambertian vertex of the path
- * loop aims a share of its scattered directions at them (nee.h). */
-uint32_t rt_lights_target_count(const rt_lights *l);
-
-/* A direction *dir (unit) from p toward one of the targets, uniform in the
- * cone it subtends: the target chosen by the fraction a (its remainder
- * places the direction's angle from the axis), the azimuth by the
- * fraction b. Returns 0 when p is inside the chosen sphere. Needs
- * rt_lights_target_count(l) > 0. */
-int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t a, uint32_t b, rt_vec3 *dir);
-
-/* The density (per unit solid angle, the target's choice included) with
- * which rt_lights_target_sample gives the direction of dir (any length)
- * from p: a sum over the targets whose sphere the line meets. */
-double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir);
-
 #endif
 
 /* *out is NULL (and RT_OK) when s has no emitter shape. */

@@ -99,9 +99,7 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
 {
     const uint32_t slots = RT_NEE_AIM_SLOTS;
     if (!slots || !r->light_targets) { /* cosine-weighted */
-        rt_vec3 d = rt_warp_cosine(u, n);
-        if (rt_v3_near_zero(d))
-            d = n;
+        const rt_vec3 d = rt_warp_lambert(u, n);
         *dir = d;
         *pdf = rt_v3_dot(d, n) / (rt_v3_len(d) * PI);
         return 1.0;
@@ -114,9 +112,7 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
     double c;
     if (slot + 1 < slots) {
         const uint64_t a = (((uint64_t)slot << 32) | rest) / (slots - 1);
-        d = rt_warp_cosine(a << 32 | (uint32_t)u, n);
-        if (rt_v3_near_zero(d))
-            d = n;
+        d = rt_warp_lambert(a << 32 | (uint32_t)u, n);
         c = rt_v3_dot(d, n) / rt_v3_len(d);
     } else if (!rt_lights_target_sample(r->lights, p, time, rest, (uint32_t)u, &d) || !((c = rt_v3_dot(d, n)) > 0.0))
         return 0.0;

@@ -233,11 +233,8 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
     }
     vx->pdf = 0.0;
     if (m->kind == RT_MAT_LAMBERTIAN && c->cosine) { /* rt_material_scatter's lambertian, its operations inline */
-        rt_vec3 d = rt_warp_cosine(rt_sampler_get2d(&p->smp), rec.normal);
-        if (rt_v3_near_zero(d))
-            d = rec.normal;
         p->thr = rt_v3_mul(p->thr, col);
-        p->ray = (rt_ray){rec.p, d};
+        p->ray = (rt_ray){rec.p, rt_warp_lambert(rt_sampler_get2d(&p->smp), rec.normal)};
         return 1;
     }
     rt_vec3 att;

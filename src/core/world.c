@@ -326,9 +326,9 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         orient_hulls(w);
     for (uint32_t i = 0; i < w->nitems && !st; i++) {
         w->items[i] = i;
-        w->mat[i] = i < w->nq ? s->shapes.quads.items[i].material
-                    : i < w->ns ? s->shapes.movers.items[i - w->nq].material
-                                : s->spheres[i - w->ns].material;
+        rt_whit h = {0};
+        rt_world_shape(w, i, &h.kind, &h.index);
+        w->mat[i] = rt_world_material(w, &h);
         bx[i] = item_box(w, i);
     }
     if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)
@@ -358,7 +358,7 @@ void rt_world_free(rt_world *w)
 size_t rt_world_bytes(const rt_world *w)
 {
     return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
-           (size_t)w->nitems * sizeof *w->items + (size_t)w->n_nodes * sizeof(wide);
+           (size_t)w->nitems * (sizeof *w->items + sizeof *w->mat) + (size_t)w->n_nodes * sizeof(wide);
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }

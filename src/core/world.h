@@ -82,7 +82,7 @@ int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_
 int rt_world_medium_span(const rt_world *w, uint32_t k, const rt_ray *ray, double *t0, double *t1);
 
 /* rt_world_medium_span of a sphere medium m, inline for the path loop's
- * media (media.c): no call, so nothing of its caller spills. */
+ * media (path2.c's flights): no call, so nothing of its caller spills. */
 static inline int rt_world_sphere_span(const rt_medium *m, const rt_ray *ray, double *t0, double *t1)
 {
     const rt_vec3 oc = rt_v3_sub(ray->orig, m->center);

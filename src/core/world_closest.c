@@ -25,8 +25,7 @@ static inline __attribute__((always_inline)) int hit_of(const rt_world *w, doubl
     if (best == UINT32_MAX)
         return 0;
     hit->t = best_t;
-    hit->kind = best < w->nq ? RT_SHAPE_QUAD : best < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
-    hit->index = best < w->nq ? best : best < w->ns ? best - w->nq : best - w->ns;
+    rt_world_shape(w, best, &hit->kind, &hit->index);
     hit->material = w->mat[best];
     return 1;
 }
@@ -132,8 +131,7 @@ int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double t
 int rt_world_occluded(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t kind,
                       uint32_t index)
 {
-    return w->occluded(w, ray, time, tmin, tmax,
-                       kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : w->ns + index);
+    return w->occluded(w, ray, time, tmin, tmax, rt_world_item(w, kind, index));
 }
 
 int rt_world_shape_t(const rt_world *w, uint32_t kind, uint32_t index, const rt_ray *ray, double time, double tmin,

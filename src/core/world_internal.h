@@ -56,6 +56,18 @@ struct rt_world {
     double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
 };
 
+/* The item of shape (kind, index): the quads, then the moving spheres,
+ * then the static spheres; and back. */
+static inline uint32_t rt_world_item(const rt_world *w, uint32_t kind, uint32_t index)
+{
+    return kind == RT_SHAPE_QUAD ? index : kind == RT_SHAPE_MOVER ? w->nq + index : w->ns + index;
+}
+static inline void rt_world_shape(const rt_world *w, uint32_t item, uint32_t *kind, uint32_t *index)
+{
+    *kind = item < w->nq ? RT_SHAPE_QUAD : item < w->ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
+    *index = item < w->nq ? item : item < w->ns ? item - w->nq : item - w->ns;
+}
+
 /* Sets w's queries for its mode and tree (world_closest.c): the last step
  * of the build. */
 void rt_world_pick(rt_world *w);
