@@ -374,8 +374,12 @@ slurm | slurmlost)
         if ! wait_done "$j" 120; then
             fail "sbatch -N 3 ($l): job $j not done after 120 s (state $JOB_STATE)"; show "$WORK/N3-$l-$j.out"; continue
         fi
-        check_eq "sbatch -N 3 ($l): job $j state, exit code, nodes" \
-            "$JOB_STATE $(field "$j" ExitCode) $(field "$j" NodeList)" "COMPLETED 0:0 n[1-3]"
+        got="$JOB_STATE $(field "$j" ExitCode) $(field "$j" NodeList)"
+        check_eq "sbatch -N 3 ($l): job $j state, exit code, nodes" "$got" "COMPLETED 0:0 n[1-3]"
+        if [ "$got" != "COMPLETED 0:0 n[1-3]" ]; then # what the job and each slurmd said about it
+            show "$WORK/N3-$l-$j.out"
+            grep -h "$j" "$RT_CLUSTER"/slurm/log/slurmd-*.log 2>/dev/null | tail -n 20 | sed 's/^/     | /'
+        fi
         note "sbatch -N 3 --ntasks-per-node=2 ($l): $(secs "$t" "$(now)") s submit to done"
         same_image "sbatch -N 3 ($l)" "$WORK/N3-$l.png" || show "$WORK/N3-$l-$j.out"
     done
