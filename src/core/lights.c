@@ -222,9 +222,11 @@ static int cone_dir(const light *L, rt_vec3 p, double time, double s, uint32_t t
     return 1;
 }
 
-int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out)
+/* The light u in [0, 1) chooses (the first whose cdf passes u), and u's
+ * fraction within its share. */
+static uint32_t choose(const rt_lights *l, double u, double *rest)
 {
-    uint32_t lo = 0, hi = l->n - 1; /* the first light whose cdf passes u */
+    uint32_t lo = 0, hi = l->n - 1;
     while (lo < hi) {
         const uint32_t mid = (lo + hi) / 2;
         if (l->cdf[mid] > u)
@@ -232,14 +234,46 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
         else
             lo = mid + 1;
     }
+    const double below = lo ? l->cdf[lo - 1] : 0.0, r = (u - below) / l->items[lo].prob;
+    *rest = r < 1.0 ? (r > 0.0 ? r : 0.0) : 0x1.fffffffffffffp-1;
+    return lo;
+}
+
+int rt_lights_point(const rt_lights *l, double time, double u, uint64_t u2, rt_light_point *out)
+{
+    const uint32_t lo = choose(l, u, &out->rest);
     const light *L = &l->items[lo];
-    const double below = lo ? l->cdf[lo - 1] : 0.0, rest = (u - below) / L->prob;
+    out->kind = (uint32_t)(L->key >> 32);
+    out->index = (uint32_t)L->key;
+    out->material = L->material;
+    out->emit = L->emit;
+    out->one_sided = L->one_sided;
+    if (is_quad(L)) {
+        out->p = rt_v3_madd(rt_v3_madd(L->a, L->b, rt_warp_unit((uint32_t)(u2 >> 32))), L->c,
+                            rt_warp_unit((uint32_t)u2));
+        out->n = L->n;
+        out->pdf = L->prob / L->area;
+        return L->area > 0.0;
+    }
+    /* a sphere: uniform over its whole surface, z = 1 - 2 s */
+    const double r = L->c.x, z = 1.0 - 2.0 * rt_warp_unit((uint32_t)(u2 >> 32)), sxy = sqrt(fmax(0.0, 1.0 - z * z));
+    double cph, sph;
+    rt_sample_cos_sin_turn((uint32_t)u2, &cph, &sph);
+    out->n = rt_v3(sxy * cph, sxy * sph, z);
+    out->p = rt_v3_add(centre(L, time), rt_v3_scale(out->n, r));
+    out->pdf = L->prob / (4.0 * PI * r * r);
+    return r > 0.0;
+}
+
+int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out)
+{
+    const uint32_t lo = choose(l, u, &out->rest);
+    const light *L = &l->items[lo];
     out->kind = (uint32_t)(L->key >> 32);
     out->index = (uint32_t)L->key;
     out->material = L->material;
     out->light = lo;
     out->emit = L->emit;
-    out->rest = rest < 1.0 ? (rest > 0.0 ? rest : 0.0) : 0x1.fffffffffffffp-1;
     const double s = rt_warp_unit((uint32_t)(u2 >> 32));
     if (is_quad(L)) {
         const rt_vec3 x = rt_v3_madd(rt_v3_madd(L->a, L->b, s), L->c, rt_warp_unit((uint32_t)u2));

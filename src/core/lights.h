@@ -61,6 +61,24 @@ typedef struct rt_light_dir {
  * from its front face only: its light could not reach p). */
 int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint64_t u2, rt_light_dir *out);
 
+/* A point on a light, as rt_lights_point gives it. */
+typedef struct rt_light_point {
+    rt_vec3 p, n;         /* the point and the light's unit normal there (a sphere's outward) */
+    uint32_t kind, index; /* the light's shape */
+    uint32_t material;
+    int one_sided;        /* a quad that emits toward n only */
+    double pdf;           /* per unit area, the light's choice included */
+    double emit;          /* the light's luminance */
+    double rest;          /* as rt_light_dir's */
+} rt_light_point;
+
+/* A point on a light at time `time`, seen from nowhere in particular (a
+ * medium's in-scattering along a whole segment, path2.c): the light chosen
+ * by u as rt_lights_sample does, the point uniform over its area (a
+ * quad's, a sphere's whole surface) by u2. Returns 0 for a light of no
+ * area. */
+int rt_lights_point(const rt_lights *l, double time, double u, uint64_t u2, rt_light_point *out);
+
 /* The density (per unit solid angle, the light's choice included) with
  * which rt_lights_sample gives unit direction dir from p, for a ray
  * p + t dir that first meets shape (kind, index) at distance t; 0 when

@@ -25,26 +25,6 @@ rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray
     return rt_texture_albedo(s, rt_world_perlin(r->world), m, u, v, rec.p);
 }
 
-/* exp(-x) for x >= 0: 2^-k e^-f with x = k ln 2 + f, f in [0, ln 2), a
- * Taylor series to below 1e-16; 0 past 700. No libm. */
-static double neg_exp(double x)
-{
-    if (!(x < 700.0))
-        return 0.0;
-    const double ln2 = 0.69314718055994530942;
-    const int k = (int)(x / ln2);
-    const double f = x - k * ln2;
-    double term = 1.0, sum = 1.0;
-    for (int i = 1; i <= 20; i++) {
-        term *= -f / i;
-        sum += term;
-    }
-    uint64_t b = (uint64_t)(1023 - k) << 52; /* 2^-k, k <= 1010 */
-    double scale;
-    memcpy(&scale, &b, 8);
-    return sum * scale;
-}
-
 /* The transmittance of the media along ray (unit direction) over
  * (T_MIN, t). */
 static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
@@ -60,7 +40,7 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
         if (b > a)
             depth += s->media.media.items[k].density * (b - a);
     }
-    return depth > 0.0 ? neg_exp(depth) : 1.0;
+    return depth > 0.0 ? rt_det_exp_neg(depth) : 1.0;
 }
 
 /* Shadow-ray roulette (with the job's roulette): a shadow ray whose
@@ -123,8 +103,8 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
 
 static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, rt_sampler *smp,
-                      uint64_t *segments)
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, int mis,
+                      rt_sampler *smp, uint64_t *segments)
 {
     const rt_vec3 none = {0, 0, 0};
     const double u = rt_sampler_get1d(smp);
@@ -161,7 +141,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
     if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return none;
     const double pdf_scatter = aim ? scatter_pdf(r, p, ray.dir, time, pdf_bsdf) : pdf_bsdf;
-    const double w = r->job.light == RT_LIGHT_NEE_ONLY
+    const double w = r->job.light == RT_LIGHT_NEE_ONLY || !mis
                          ? 1.0
                          : pdf_light * pdf_light / (pdf_light * pdf_light + pdf_scatter * pdf_scatter);
     const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
@@ -170,6 +150,8 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
 
 double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time)
 {
+    if (pdf_bsdf < 0.0) /* the vertex's direct light was estimated otherwise (path2.c's in-scattering) */
+        return 0.0;
     if (!(pdf_bsdf > 0.0))
         return 1.0;
     const double len = rt_v3_len(ray->dir);
@@ -178,4 +160,35 @@ double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, c
     if (r->job.light == RT_LIGHT_NEE_ONLY) /* what NEE cannot reach keeps its BSDF-sampled light */
         return pl > 0.0 ? 0.0 : 1.0;
     return pdf_bsdf * pdf_bsdf / (pdf_bsdf * pdf_bsdf + pl * pl);
+}
+
+rt_vec3 rt_nee_toward(const rt_renderer *r, rt_vec3 x, const rt_light_point *lp, rt_vec3 weight, double u,
+                      double time, uint64_t *segments)
+{
+    const rt_vec3 none = {0, 0, 0};
+    const rt_vec3 d = rt_v3_sub(lp->p, x);
+    const double d2 = rt_v3_len2(d), dist = sqrt(d2), facing = rt_v3_dot(d, lp->n);
+    if (!(dist > 0.0) || facing == 0.0 || (lp->one_sided && facing > 0.0))
+        return none; /* x in the light's plane, or behind a face that emits nothing toward it */
+    const double g = fabs(facing) / (dist * d2); /* the cosine at the light over the squared distance */
+    double keep = 1.0;
+    if (r->job.roulette) { /* rt_nee_direct's shadow-ray roulette */
+        const double est = luma(weight) * lp->emit * g;
+        if (est < RT_NEE_SHADOW_KEEP) {
+            keep = est / RT_NEE_SHADOW_KEEP;
+            if (!(u < keep))
+                return none;
+        }
+    }
+    rt_ray ray = {x, rt_v3_scale(d, 1.0 / dist)};
+    ++*segments;
+    rt_whit h = {0.0, lp->kind, lp->index, lp->material};
+    if (!rt_world_shape_t(r->world, lp->kind, lp->index, &ray, time, T_MIN, &h.t) || h.t < dist * (1.0 - 1e-7) ||
+        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, lp->kind, lp->index))
+        return none; /* the light's own near side, or another shape, in front of the point */
+    const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
+    if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
+        return none;
+    const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
+    return rt_v3_scale(rt_v3_mul(weight, le), t * g / keep);
 }

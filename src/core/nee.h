@@ -14,6 +14,7 @@
 #include <stdint.h>
 
 #include "accel.h"
+#include "lights.h"
 #include "render.h"
 #include "sampler.h"
 #include "world.h"
@@ -34,9 +35,10 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
  * times the emission, over the light's density, weighted. Draws a 1D and
  * a 2D number from smp (the light and the point; the 1D number's rest
  * also decides the shadow-ray roulette, nee.c). Adds the shadow ray, when
- * traced, to *segments. */
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, rt_sampler *smp,
-                      uint64_t *segments);
+ * traced, to *segments. mis 0: the whole light, unweighted (no BSDF-sampled
+ * ray of the vertex counts an emitter: rt_nee_weight of a negative density). */
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, int mis,
+                      rt_sampler *smp, uint64_t *segments);
 
 /* A lambertian vertex's scattered direction *dir from p (normal n) by the
  * 2D number u: cosine-weighted, or, in a scene with sampling targets
@@ -50,8 +52,19 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
 
 /* The weight of the emission a BSDF-sampled ray (from its origin, where
  * the vertex's BSDF density of its direction was pdf_bsdf) finds at hit h:
- * 1 after a specular vertex (pdf_bsdf 0). */
+ * 1 after a specular vertex (pdf_bsdf 0); 0 when pdf_bsdf is negative, a
+ * vertex whose direct light was estimated without MIS. */
 double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time);
+
+/* The light that point lp of a light sends to x, per unit of the light's
+ * area, times weight: its emission toward x times the transmittance of the
+ * media between, times the cosine at the light over the squared distance;
+ * zero when anything (the light's own near side too) stands between.
+ * Under the job's roulette a faint one is traced with a probability
+ * (rt_nee_direct's rule), decided by u in [0, 1). Adds the shadow ray,
+ * when traced, to *segments. */
+rt_vec3 rt_nee_toward(const rt_renderer *r, rt_vec3 x, const rt_light_point *lp, rt_vec3 weight, double u,
+                      double time, uint64_t *segments);
 
 /* The emission of emitter hit h (its material set) seen along ray: its texture's value on its
  * emitting face(s), else zero. */

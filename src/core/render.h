@@ -37,8 +37,12 @@
  * faint (nee.c), decided by the light choice's number. 7: in lit scenes
  * with glass spheres (book3-final, book2-final), a lambertian vertex aims
  * one in eight of its scattered directions at them (nee.c), from the same
- * 2D number; other lit scenes (cornell-box) keep version 6's bytes. */
-#define RT_RENDER_SAMPLING 7u
+ * 2D number; other lit scenes (cornell-box) keep version 6's bytes. 8:
+ * lit scenes with media (book2-final, cornell-smoke) sample the light
+ * their thin media scatter along a segment from the camera or a specular
+ * vertex (path2.c's inscatter; 14 dimensions a bounce); other scenes
+ * keep version 7's bytes. */
+#define RT_RENDER_SAMPLING 8u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts
  * only paths whose throughput has fallen below RT_RENDER_ROULETTE_KEEP in

@@ -39,6 +39,12 @@
  *     +8 - +9         2D the direction toward it (a point of a quad, a
  *                     direction in a sphere's cone)
  *   (+7 unused: a 2D request takes an even dimension); in a lit scene
+ *   with media a bounce takes 14 (from 6 + 14d), and a segment from the
+ *   camera or a specular vertex through thin media draws its in-scattered
+ *   light (path2.c, inscatter):
+ *     +10             1D the distance along the segment
+ *     +11             1D which light (its rest: whether, then the roulette)
+ *     +12 - +13       2D the point on it; in a lit scene
  *   with glass spheres, a lambertian vertex's 2D direction (+2 - +3)
  *   also decides whether it aims at one of them (nee.h: its first
  *   fraction's eighth). The brute-force
@@ -114,6 +120,9 @@ static inline int rt_sampler_parse(const char *name)
 /* With light sampling (path2.c, nee.h) a bounce takes 10 dimensions: */
 #define RT_SAMPLER2_LIT_BOUNCE_DIMS 10u
 #define RT_SAMPLER2_LIGHT 6u /* 1D which light, then 2D (8-9) the point on it */
+/* and in lit scenes with media, 14 (path2.c's in-scattering along a segment): */
+#define RT_SAMPLER2_LIT_MEDIA_BOUNCE_DIMS 14u
+#define RT_SAMPLER2_INSCATTER 10u /* 1D the distance, then 1D (11) which light, 2D (12-13) the point */
 
 /* ---- the Sobol pieces ----------------------------------------------------- */
 

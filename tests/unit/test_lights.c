@@ -5,7 +5,8 @@
  * a white furnace whose walls, a sphere and a moving sphere emit, with a
  * white medium inside (every pixel's radiance is the walls'), also with
  * a glass sphere that the diffuse vertices aim at (nee.h); the
- * cornell-box's channel means with and without light sampling. Each
+ * cornell-box's and cornell-smoke's channel means with and without light
+ * sampling. Each
  * within four standard errors, from the random sampler's independent
  * samples. */
 #include <math.h>
@@ -170,11 +171,13 @@ static void check_furnace(int glass)
     rt_scene_free(&s);
 }
 
-/* The cornell-box's mean colour, with and without light sampling. */
-static void check_cornell(void)
+/* A named scene's mean colour, with and without light sampling: the
+ * cornell-box, and cornell-smoke, whose camera rays cross its smoke (the
+ * in-scattering along them, path2.c). */
+static void check_cornell(const char *name)
 {
     rt_scene s;
-    CHECK_EQ_INT(rt_scene_build_named(&s, "cornell-box", 42, 0, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 0, NULL), RT_OK);
     stat st[2] = {{{0}, {0}, 0}, {{0}, {0}, 0}};
     for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_BRUTE; mode++) {
         rt_accel *a;
@@ -186,7 +189,7 @@ static void check_cornell(void)
     }
     for (int i = 0; i < 3; i++) {
         const double err = sqrt(se(&st[0], i) * se(&st[0], i) + se(&st[1], i) * se(&st[1], i));
-        fprintf(stderr, "cornell-box channel %d: %.5f with light sampling, %.5f without (se %.5f)\n", i,
+        fprintf(stderr, "%s channel %d: %.5f with light sampling, %.5f without (se %.5f)\n", name, i,
                 mean(&st[0], i), mean(&st[1], i), err);
         CHECK_NEAR(mean(&st[0], i), mean(&st[1], i), 4 * err);
     }
@@ -201,6 +204,7 @@ int main(void)
     }
     check_furnace(0);
     check_furnace(1);
-    check_cornell();
+    check_cornell("cornell-box");
+    check_cornell("cornell-smoke");
     CHECK_DONE();
 }

@@ -364,19 +364,35 @@ static void check_transmittance(int overlap)
     rt_scene_free(&s);
 }
 
-/* log and sin without libm, against libm. */
+/* log, sin, exp(-x), 1 - exp(-x), atan and tan without libm, against
+ * libm (relative errors). */
 static void check_detmath(void)
 {
-    double worst_log = 0, worst_sin = 0;
+    double worst_log = 0, worst_sin = 0, worst_exp = 0, worst_omx = 0, worst_atan = 0, worst_tan = 0;
     rt_rng rng = rt_rng_for_stream(5, RT_STREAM_TEST);
     for (int i = 0; i < 100000; i++) {
         const double x = exp(rt_rng_range(&rng, -700, 700));
         worst_log = fmax(worst_log, fabs(rt_det_log(x) - log(x)) / fmax(1.0, fabs(log(x))));
         const double a = rt_rng_range(&rng, -200, 200);
         worst_sin = fmax(worst_sin, fabs(rt_det_sin(a) - sin(a)));
+        const double d = exp(rt_rng_range(&rng, -30, 6)); /* optical depths, 1e-13 to 400 */
+        worst_exp = fmax(worst_exp, fabs(rt_det_exp_neg(d) - exp(-d)) / exp(-d));
+        worst_omx = fmax(worst_omx, fabs(rt_det_one_minus_exp_neg(d) + expm1(-d)) / -expm1(-d));
+        const double y = (rt_rng_double(&rng) < 0.5 ? -1 : 1) * exp(rt_rng_range(&rng, -20, 20));
+        worst_atan = fmax(worst_atan, fabs(rt_det_atan(y) - atan(y)) / fabs(atan(y)));
+        const double th = rt_rng_range(&rng, -1.5707, 1.5707);
+        worst_tan = fmax(worst_tan, fabs(rt_det_tan(th) - tan(th)) / fmax(1e-300, fabs(tan(th))));
     }
+    fprintf(stderr, "detmath worst relative errors: log %.2g sin %.2g exp(-x) %.2g 1-exp(-x) %.2g atan %.2g tan %.2g\n",
+            worst_log, worst_sin, worst_exp, worst_omx, worst_atan, worst_tan);
     CHECK(worst_log < 1e-14);
     CHECK(worst_sin < 1e-7);
+    CHECK(worst_exp < 1e-13); /* x - k ln 2 loses digits as k grows */
+    CHECK(worst_omx < 1e-14);
+    CHECK(worst_atan < 1e-14);
+    CHECK(worst_tan < 1e-10); /* near pi/2 its cosine is a difference */
+    CHECK_NEAR(rt_det_exp_neg(800.0), 0.0, 0);
+    CHECK_NEAR(rt_det_atan(0.0), 0.0, 0);
     CHECK_NEAR(rt_det_log(1.0), 0.0, 0);
     CHECK(rt_det_log(0.0) == -INFINITY);
     CHECK_NEAR(rt_det_log(4.9406564584124654e-324), -744.44007192138122, 1e-12); /* subnormal */
