@@ -103,9 +103,10 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
 
 static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, int mis,
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_vec3 weight, double time,
                       rt_sampler *smp, uint64_t *segments)
 {
+    const rt_vec3 n = b->n;
     const rt_vec3 none = {0, 0, 0};
     const double u = rt_sampler_get1d(smp);
     const uint64_t u2 = rt_sampler_get2d(smp);
@@ -117,8 +118,12 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
     const double cosine = iso ? 1.0 : rt_v3_dot(ray.dir, n);
     if (!(cosine > 0.0)) /* below a lambertian surface: it reflects nothing there */
         return none;
-    const double pdf_bsdf = iso ? 1.0 / (4.0 * PI) : cosine / PI;
-    const int aim = !iso && RT_NEE_AIM_SLOTS && r->light_targets;
+    const double pdf_bsdf = iso                ? 1.0 / (4.0 * PI)
+                            : b->fuzz > 0.0 ? rt_warp_fuzz_pdf(b->m, b->fuzz, ray.dir)
+                                            : cosine / PI;
+    if (!(pdf_bsdf > 0.0)) /* outside a fuzzy metal's ball of directions */
+        return none;
+    const int aim = !iso && !(b->fuzz > 0.0) && RT_NEE_AIM_SLOTS && r->light_targets;
     double keep = 1.0;
     if (r->job.roulette) {
         const double est = luma(weight) * ld.emit * pdf_bsdf / ld.pdf;
@@ -141,7 +146,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight
     if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return none;
     const double pdf_scatter = aim ? scatter_pdf(r, p, ray.dir, time, pdf_bsdf) : pdf_bsdf;
-    const double w = r->job.light == RT_LIGHT_NEE_ONLY || !mis
+    const double w = r->job.light == RT_LIGHT_NEE_ONLY
                          ? 1.0
                          : pdf_light * pdf_light / (pdf_light * pdf_light + pdf_scatter * pdf_scatter);
     const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;

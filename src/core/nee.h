@@ -1,6 +1,8 @@
 /* nee.h - next-event estimation for the book-2 path loop (path2.c): at a
- * diffuse vertex (lambertian or isotropic), the light of one emitter
- * reached by a shadow ray toward it (lights.h), and the weight of the
+ * vertex that scatters with a density (lambertian, isotropic, fuzzy
+ * metal), the light of one emitter reached by a shadow ray toward it
+ * (lights.h); the light thin media scatter along a segment
+ * (rt_nee_toward, for path2.c's inscatter); and the weight of the
  * light a BSDF-sampled ray finds on an emitter; the two strategies are
  * combined by multiple importance sampling with the power heuristic (the
  * weights of a direction sum to 1, so the sum is unbiased). A shadow ray
@@ -28,16 +30,25 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
     return rt_world_closest(r->world, ray, time, 0.001, INFINITY, h);
 }
 
+/* A vertex's scattering, as next-event estimation weighs a direction by
+ * it: lambertian about normal n; isotropic (n zero); or a fuzzy metal
+ * (fuzz > 0: the mirror direction m, unit, and the surface normal n). */
+typedef struct rt_nee_bsdf {
+    rt_vec3 n, m;
+    double fuzz;
+} rt_nee_bsdf;
+
 /* Light at vertex p reaching the pixel through the vertex's scattering:
  * weight (the path's throughput times the vertex's albedo) times the BSDF
- * density pdf_bsdf of the shadow ray's direction (lambertian about normal
- * n: cos / pi, which is f cos; isotropic, n zero: 1 / 4pi, which is f),
+ * density pdf_bsdf of the shadow ray's direction (lambertian: cos / pi,
+ * which is f cos; isotropic: 1 / 4pi, which is f; fuzzy metal: the
+ * density of its scattered direction, rt_warp_fuzz_pdf, zero below the
+ * surface, which is f cos as the path's throughput takes the albedo alone),
  * times the emission, over the light's density, weighted. Draws a 1D and
  * a 2D number from smp (the light and the point; the 1D number's rest
  * also decides the shadow-ray roulette, nee.c). Adds the shadow ray, when
- * traced, to *segments. mis 0: the whole light, unweighted (no BSDF-sampled
- * ray of the vertex counts an emitter: rt_nee_weight of a negative density). */
-rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, rt_vec3 n, rt_vec3 weight, double time, int mis,
+ * traced, to *segments. */
+rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_vec3 weight, double time,
                       rt_sampler *smp, uint64_t *segments);
 
 /* A lambertian vertex's scattered direction *dir from p (normal n) by the

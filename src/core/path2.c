@@ -213,12 +213,14 @@ static void miss2(const p2 *c, path *p)
  * scattered ray could hit). Its numbers: the bounce's light dimensions;
  * the scattering's follow. Inline: a wrapper of its own out of line cost a
  * second call a vertex (nee.c's work stays out of the loop). */
+static const rt_nee_bsdf ISOTROPIC = {{0, 0, 0}, {0, 0, 0}, 0.0};
+
 static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
 
-static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_vec3 n, rt_vec3 albedo)
+static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_nee_bsdf b, rt_vec3 albedo)
 {
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
-    p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, n, rt_v3_mul(p->thr, albedo), v->time, 1, &p->smp, v->segs));
+    p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, &b, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_SCATTER);
 }
 
@@ -232,7 +234,7 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
     if (c->pc.aovs && !p->aov.done)
         p->aov = (aov_rec){1, clamp3(albedo), rt_v3(0, 0, 0)};
     if (lit(c, v) && !forced)
-        direct2(c, p, v, at, rt_v3(0, 0, 0), albedo);
+        direct2(c, p, v, at, ISOTROPIC, albedo);
     p->thr = rt_v3_mul(p->thr, albedo);
     p->ray.orig = at;
     p->ray.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
@@ -350,7 +352,7 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
     rt_ray next;
     if (m->kind == RT_MAT_ISOTROPIC) { /* a surface of isotropic material scatters as a medium does */
         if (lit(c, vx))
-            direct2(c, p, vx, rec.p, rt_v3(0, 0, 0), col);
+            direct2(c, p, vx, rec.p, ISOTROPIC, col);
         next.orig = rec.p;
         next.dir = rt_warp_sphere(rt_sampler_get2d(&p->smp));
         att = col;
@@ -358,7 +360,7 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
     } else {
         if (m->kind == RT_MAT_LAMBERTIAN && c->r->lights) {
             if (lit(c, vx))
-                direct2(c, p, vx, rec.p, rec.normal, col);
+                direct2(c, p, vx, rec.p, (rt_nee_bsdf){.n = rec.normal}, col);
             next.orig = rec.p;
             const double f = rt_nee_scatter(c->r, rec.p, rec.normal, time, rt_sampler_get2d(&p->smp), &next.dir,
                                             &vx->pdf);
@@ -366,10 +368,19 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
                 return 0;
             att = rt_v3_scale(col, f);
         } else {
+            /* a fuzzy metal samples the lights too: its scattered direction
+             * has a density (rt_warp_fuzz_pdf), so MIS weighs the two */
+            const int fuzzy = m->kind == RT_MAT_METAL && m->fuzz > 0.0 && c->r->lights;
+            const rt_nee_bsdf b = {rec.normal, fuzzy ? rt_v3_reflect(rt_v3_unit(p->ray.dir), rec.normal) : rec.normal,
+                                   m->fuzz};
+            if (fuzzy && lit(c, vx))
+                direct2(c, p, vx, rec.p, b, m->albedo);
             if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
                 return 0;
             if (m->kind == RT_MAT_LAMBERTIAN)
                 att = col;
+            if (fuzzy)
+                vx->pdf = rt_warp_fuzz_pdf(b.m, m->fuzz, rt_v3_unit(next.dir));
         }
     }
     p->thr = rt_v3_mul(p->thr, att);

@@ -40,8 +40,9 @@
  * 2D number; other lit scenes (cornell-box) keep version 6's bytes. 8:
  * lit scenes with media (book2-final, cornell-smoke) sample the light
  * their thin media scatter along a segment from the camera or a specular
- * vertex (path2.c's inscatter; 14 dimensions a bounce); other scenes
- * keep version 7's bytes. */
+ * vertex (path2.c's inscatter; 14 dimensions a bounce), and a fuzzy
+ * metal vertex of a lit scene samples the lights (nee.h, with its
+ * scattering's density); other scenes keep version 7's bytes. */
 #define RT_RENDER_SAMPLING 8u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts

@@ -34,7 +34,8 @@
  *                     the Russian roulette (at +4 or +5 at most)
  *   with light sampling (a scene with emitters, not --no-light-sampling),
  *   the bounce at depth d starts at 6 + 10d instead, and a diffuse vertex
- *   (lambertian, isotropic) draws before its scattering's numbers:
+ *   (lambertian, isotropic, fuzzy metal) draws before its scattering's
+ *   numbers:
  *     +6              1D which light (nee.h, lights.h)
  *     +8 - +9         2D the direction toward it (a point of a quad, a
  *                     direction in a sphere's cone)

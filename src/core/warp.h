@@ -40,6 +40,23 @@ static inline rt_vec3 rt_warp_ball(uint64_t u, double r)
     return rt_v3_scale(rt_warp_sphere(u), rt_sample_cbrt(r));
 }
 
+/* The density, per unit solid angle, of the direction of m + f b for b
+ * uniform in the unit ball (a fuzzy metal's reflection, material.c: m the
+ * mirror direction, unit; f the fuzz, > 0), in unit direction w: the ball
+ * of radius f about m as seen from the origin, (s2^3 - s1^3) / (4 pi f^3)
+ * over the chord [s1, s2] that the ray along w cuts from it (s1 clamped at
+ * 0 when the ball holds the origin, f >= 1). */
+static inline double rt_warp_fuzz_pdf(rt_vec3 m, double f, rt_vec3 w)
+{
+    const double b = rt_v3_dot(w, m), disc = b * b - (rt_v3_len2(m) - f * f);
+    if (!(disc > 0.0))
+        return 0.0;
+    const double q = sqrt(disc), s2 = b + q, s1 = b - q > 0.0 ? b - q : 0.0;
+    if (!(s2 > 0.0))
+        return 0.0;
+    return (s2 * s2 * s2 - s1 * s1 * s1) / (4.0 * 3.14159265358979323846 * f * f * f);
+}
+
 /* A uniform direction in the hemisphere around n: the sphere's, flipped
  * to n's side. */
 static inline rt_vec3 rt_warp_hemisphere(uint64_t u, rt_vec3 n)

@@ -1,7 +1,8 @@
 /* test_lights.c - light sampling (lights.h, nee.h) is unbiased: a point
  * on a diffuse plane under a rectangular or a spherical emitter against
  * the closed form of its irradiance, by light sampling alone, BSDF sampling alone and MIS
- * (also with a faint emitter and the shadow-ray roulette);
+ * (also with a faint emitter and the shadow-ray roulette); a fuzzy metal
+ * plane under that rectangle by the three;
  * a white furnace whose walls, a sphere and a moving sphere emit, with a
  * white medium inside (every pixel's radiance is the walls'), also with
  * a glass sphere that the diffuse vertices aim at (nee.h); the
@@ -108,6 +109,43 @@ static void check_analytic(int sphere, int faint)
     rt_scene_free(&s);
 }
 
+/* A fuzzy metal plane (albedo 0.8) under check_analytic's rectangle, seen
+ * where it mirrors the rectangle: its metal vertex samples the light
+ * (rt_warp_fuzz_pdf's density of its scattered directions), so MIS and
+ * light sampling alone must give the mean of BSDF sampling alone; fuzz
+ * 0.3, and 1 (the largest a material has: the ball of offsets reaches the
+ * origin). */
+static void check_metal(double fuzz)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t floor, light;
+    rt_material m = rt_scene_metal(rt_v3(0.8, 0.8, 0.8), fuzz), e = rt_scene_emitter(rt_v3(4, 4, 4), 0);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &m, &floor), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &e, &light), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), floor, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0.5, 1, -0.5), rt_v3(1, 0, 0), rt_v3(0, 0, 0.75), light, NULL), RT_OK);
+    s.background_kind = RT_BACKGROUND_COLOR;
+    s.background = rt_v3(0, 0, 0);
+    s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+    stat st[3];
+    for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_NEE_ONLY; mode++) {
+        rt_accel *a;
+        const rt_renderer r = renderer(&s, &a, 1, 1, 2, mode, 0);
+        st[mode] = (stat){{0}, {0}, 0};
+        add_pixel(&st[mode], &r, 0, 0, 200000);
+        fprintf(stderr, "fuzzy metal %.1f, %s: %.5f (se %.5f)\n", fuzz, MODE[mode], mean(&st[mode], 0),
+                se(&st[mode], 0));
+        rt_accel_free(a);
+    }
+    CHECK(mean(&st[RT_LIGHT_BRUTE], 0) > 0.1); /* the light is in view */
+    for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_NEE_ONLY; mode += 2) {
+        const double e0 = se(&st[mode], 0), e1 = se(&st[RT_LIGHT_BRUTE], 0);
+        CHECK_NEAR(mean(&st[mode], 0), mean(&st[RT_LIGHT_BRUTE], 0), 4 * sqrt(e0 * e0 + e1 * e1));
+    }
+    rt_scene_free(&s);
+}
+
 /* A box whose six walls emit 1 from both faces, around a white sphere, a
  * white floor, a sphere and a moving sphere that emit 1, all in white fog:
  * radiance 1 everywhere (up to paths longer than the depth limit). glass:
@@ -202,6 +240,8 @@ int main(void)
         check_analytic(0, faint);
         check_analytic(1, faint);
     }
+    check_metal(0.3);
+    check_metal(1.0);
     check_furnace(0);
     check_furnace(1);
     check_cornell("cornell-box");
