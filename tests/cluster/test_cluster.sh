@@ -81,7 +81,7 @@ same_image() { # label file
         fail "$1: image differs from the one-process render: $(cmp "$REF" "$2" 2>&1)"
     fi
 }
-show() { [[ -f $1 ]] && sed 's/^/     | /' "$1" | tail -n 25; return 0; }
+show() { [[ -f $1 ]] && sed 's/^/     | /' "$1" | tail -n "${2:-25}"; return 0; } # file [lines]
 
 IMG=(--width 160 --height 100 -s 4 --no-checkpoint -q)
 REF=$WORK/ref.png
@@ -377,8 +377,9 @@ slurm | slurmlost)
         got="$JOB_STATE $(field "$j" ExitCode) $(field "$j" NodeList)"
         check_eq "sbatch -N 3 ($l): job $j state, exit code, nodes" "$got" "COMPLETED 0:0 n[1-3]"
         if [ "$got" != "COMPLETED 0:0 n[1-3]" ]; then # what the job and each slurmd said about it
-            show "$WORK/N3-$l-$j.out"
-            grep -h "$j" "$RT_CLUSTER"/slurm/log/slurmd-*.log 2>/dev/null | tail -n 20 | sed 's/^/     | /'
+            show "$WORK/N3-$l-$j.out" 80
+            grep -hE "(StepId=|\[)$j\.|JobId=$j( |$)" "$RT_CLUSTER"/slurm/log/slurmd-*.log 2>/dev/null | tail -n 20 |
+                sed 's/^/     | /'
         fi
         note "sbatch -N 3 --ntasks-per-node=2 ($l): $(secs "$t" "$(now)") s submit to done"
         same_image "sbatch -N 3 ($l)" "$WORK/N3-$l.png" || show "$WORK/N3-$l-$j.out"
