@@ -255,11 +255,8 @@ int rt_lights_point(const rt_lights *l, double time, double u, uint64_t u2, rt_l
         out->pdf = L->prob / L->area;
         return L->area > 0.0;
     }
-    /* a sphere: uniform over its whole surface, z = 1 - 2 s */
-    const double r = L->c.x, z = 1.0 - 2.0 * rt_warp_unit((uint32_t)(u2 >> 32)), sxy = sqrt(fmax(0.0, 1.0 - z * z));
-    double cph, sph;
-    rt_sample_cos_sin_turn((uint32_t)u2, &cph, &sph);
-    out->n = rt_v3(sxy * cph, sxy * sph, z);
+    const double r = L->c.x; /* a sphere: uniform over its whole surface */
+    out->n = rt_warp_sphere(u2);
     out->p = rt_v3_add(centre(L, time), rt_v3_scale(out->n, r));
     out->pdf = L->prob / (4.0 * PI * r * r);
     return r > 0.0;

@@ -103,6 +103,38 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
 
 static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
+/* The shadow-ray roulette's decision for a shadow ray whose light, were
+ * it unoccluded, has luminance est, by u in [0, 1): the chance it is traced
+ * with (1 without the job's roulette or above RT_NEE_SHADOW_KEEP), or 0
+ * when it is not. */
+static double shadow_keep(const rt_renderer *r, double est, double u)
+{
+    if (!r->job.roulette || !(est < RT_NEE_SHADOW_KEEP))
+        return 1.0;
+    const double keep = est / RT_NEE_SHADOW_KEEP;
+    return u < keep ? keep : 0.0;
+}
+
+/* The shadow ray (counted in *segments) along ray (unit direction) to the
+ * light (kind, index) of material `material`: 1 when the light is the
+ * first thing it meets, at a distance of at least min_t (*h its hit), with
+ * *light its emission there times the media's transmittance up to it; 0
+ * when something (or no emission) is there. */
+static int shadow_light(const rt_renderer *r, const rt_ray *ray, uint32_t kind, uint32_t index, uint32_t material,
+                        double min_t, double time, rt_whit *h, rt_vec3 *light, uint64_t *segments)
+{
+    ++*segments;
+    *h = (rt_whit){0.0, kind, index, material};
+    if (!rt_world_shape_t(r->world, kind, index, ray, time, T_MIN, &h->t) || h->t < min_t ||
+        rt_world_occluded(r->world, ray, time, T_MIN, h->t, kind, index))
+        return 0;
+    const rt_vec3 le = rt_nee_emitted(r, h, ray, time);
+    if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
+        return 0;
+    *light = r->scene->media.media.n ? rt_v3_scale(le, transmittance(r, ray, h->t)) : le;
+    return 1;
+}
+
 rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_vec3 weight, double time,
                       rt_sampler *smp, uint64_t *segments)
 {
@@ -124,33 +156,19 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_
     if (!(pdf_bsdf > 0.0)) /* outside a fuzzy metal's ball of directions */
         return none;
     const int aim = !iso && !(b->fuzz > 0.0) && RT_NEE_AIM_SLOTS && r->light_targets;
-    double keep = 1.0;
-    if (r->job.roulette) {
-        const double est = luma(weight) * ld.emit * pdf_bsdf / ld.pdf;
-        if (est < RT_NEE_SHADOW_KEEP) {
-            keep = est / RT_NEE_SHADOW_KEEP;
-            if (!(ld.rest < keep))
-                return none;
-        }
-    }
-    ++*segments;
-    /* rt_nee_closest's hit if nothing stands in front of the light */
-    rt_whit h = {0.0, ld.kind, ld.index, ld.material};
-    if (!rt_world_shape_t(r->world, ld.kind, ld.index, &ray, time, T_MIN, &h.t) ||
-        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, ld.kind, ld.index))
-        return none; /* occluded */
+    const double keep = shadow_keep(r, luma(weight) * ld.emit * pdf_bsdf / ld.pdf, ld.rest);
+    rt_whit h; /* rt_nee_closest's hit if nothing stands in front of the light */
+    rt_vec3 light;
+    if (keep == 0.0 || !shadow_light(r, &ray, ld.kind, ld.index, ld.material, 0.0, time, &h, &light, segments))
+        return none;
     const double pdf_light = rt_lights_pdf_of(r->lights, ld.light, p, time, ray.dir, h.t);
     if (!(pdf_light > 0.0))
-        return none;
-    const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
-    if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return none;
     const double pdf_scatter = aim ? scatter_pdf(r, p, ray.dir, time, pdf_bsdf) : pdf_bsdf;
     const double w = r->job.light == RT_LIGHT_NEE_ONLY
                          ? 1.0
                          : pdf_light * pdf_light / (pdf_light * pdf_light + pdf_scatter * pdf_scatter);
-    const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
-    return rt_v3_scale(rt_v3_mul(weight, le), pdf_bsdf * w * t / (pdf_light * keep));
+    return rt_v3_scale(rt_v3_mul(weight, light), pdf_bsdf * w / (pdf_light * keep));
 }
 
 double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, const rt_whit *h, double time)
@@ -176,24 +194,12 @@ rt_vec3 rt_nee_toward(const rt_renderer *r, rt_vec3 x, const rt_light_point *lp,
     if (!(dist > 0.0) || facing == 0.0 || (lp->one_sided && facing > 0.0))
         return none; /* x in the light's plane, or behind a face that emits nothing toward it */
     const double g = fabs(facing) / (dist * d2); /* the cosine at the light over the squared distance */
-    double keep = 1.0;
-    if (r->job.roulette) { /* rt_nee_direct's shadow-ray roulette */
-        const double est = luma(weight) * lp->emit * g;
-        if (est < RT_NEE_SHADOW_KEEP) {
-            keep = est / RT_NEE_SHADOW_KEEP;
-            if (!(u < keep))
-                return none;
-        }
-    }
-    rt_ray ray = {x, rt_v3_scale(d, 1.0 / dist)};
-    ++*segments;
-    rt_whit h = {0.0, lp->kind, lp->index, lp->material};
-    if (!rt_world_shape_t(r->world, lp->kind, lp->index, &ray, time, T_MIN, &h.t) || h.t < dist * (1.0 - 1e-7) ||
-        rt_world_occluded(r->world, &ray, time, T_MIN, h.t, lp->kind, lp->index))
-        return none; /* the light's own near side, or another shape, in front of the point */
-    const rt_vec3 le = rt_nee_emitted(r, &h, &ray, time);
-    if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
+    const double keep = shadow_keep(r, luma(weight) * lp->emit * g, u);
+    const rt_ray ray = {x, rt_v3_scale(d, 1.0 / dist)};
+    rt_whit h;
+    rt_vec3 light; /* none when the light's own near side, or another shape, stands in front of the point */
+    if (keep == 0.0 ||
+        !shadow_light(r, &ray, lp->kind, lp->index, lp->material, dist * (1.0 - 1e-7), time, &h, &light, segments))
         return none;
-    const double t = r->scene->media.media.n ? transmittance(r, &ray, h.t) : 1.0;
-    return rt_v3_scale(rt_v3_mul(weight, le), t * g / keep);
+    return rt_v3_scale(rt_v3_mul(weight, light), g / keep);
 }

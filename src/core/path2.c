@@ -78,12 +78,19 @@ typedef struct span {
     uint32_t medium;
 } span;
 
-/* The spans of the media ray is inside within (T_MIN, t_end); returns
- * their count. */
-static inline __attribute__((always_inline)) uint32_t spans_of(const p2 *c, const rt_ray *ray, double t_end,
-                                                               span sp[SPANS])
+/* A segment's media spans: their count, and when there are any the
+ * length of the ray's direction and their whole optical depth. */
+typedef struct spans {
+    span sp[SPANS];
+    uint32_t n;
+    double len, whole;
+} spans;
+
+/* The spans of the media ray is inside within (T_MIN, t_end). */
+static inline __attribute__((always_inline)) void spans_of(const p2 *c, const rt_ray *ray, double t_end, spans *S)
 {
     const uint32_t n = c->s->media.media.n;
+    span *sp = S->sp;
     uint32_t ns = 0;
     for (uint32_t k = 0; k < n && ns < SPANS; k++) {
         const rt_medium *m = &c->s->media.media.items[k];
@@ -96,7 +103,13 @@ static inline __attribute__((always_inline)) uint32_t spans_of(const p2 *c, cons
         if (b > a)
             sp[ns++] = (span){.a = a, .b = b, .density = m->density, .medium = k};
     }
-    return ns;
+    S->n = ns;
+    if (!ns)
+        return;
+    S->len = rt_v3_len(ray->dir);
+    S->whole = 0;
+    for (uint32_t i = 0; i < ns; i++)
+        S->whole += sp[i].density * (sp[i].b - sp[i].a) * S->len;
 }
 
 /* Where the optical depth tau is reached through the spans (a ray's
@@ -147,26 +160,24 @@ static inline __attribute__((always_inline)) int depth_reached(const span *sp, u
  * exponential flights, as the book's media give when each draws its own),
  * then, where several overlap, which one in proportion to its density.
  * Returns 1 with *t and *medium. */
-static int medium_event(path *p, const span *sp, uint32_t ns, double *t, uint32_t *medium)
+static int medium_event(path *p, const spans *S, double *t, uint32_t *medium)
 {
+    const span *sp = S->sp;
+    const uint32_t ns = S->n;
     if (!ns)
         return 0;
-    const double len = rt_v3_len(p->ray.dir);
+    const double len = S->len, whole = S->whole;
     const double u = rt_sampler_get1d(&p->smp);
     /* No event when u passes the spans' whole optical depth: -ln(1 - u) >= u,
      * so the flight is longer than the depth too; a margin far above the
      * rounding of the depth's sum, of 1 - u and of rt_det_log keeps every
      * decision as the walk's. Most of book2-final's thin fog's segments end
      * here, without the logarithm. */
-    double whole = 0;
-    for (uint32_t i = 0; i < ns; i++)
-        whole += sp[i].density * (sp[i].b - sp[i].a) * len;
     if (u > whole * (1.0 + 1e-6) + 1e-12)
         return 0;
     const double tau = -rt_det_log(1.0 - u); /* (0, inf]: 1 - u is in (0, 1] */
     if (ns == 1) { /* one span (book2-final's fog): the walk below in one step, the same operations */
-        const double depth = sp[0].density * (sp[0].b - sp[0].a) * len;
-        if (!(sp[0].density > 0 && tau < depth))
+        if (!(sp[0].density > 0 && tau < whole))
             return 0;
         *t = sp[0].a + tau / (sp[0].density * len);
         *medium = sp[0].medium;
@@ -230,7 +241,7 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
 {
     const rt_material *m = &c->s->materials[c->s->media.media.items[k].material];
     const rt_vec3 at = rt_ray_at(&p->ray, t);
-    const rt_vec3 albedo = rt_texture_albedo(c->s, rt_world_perlin(c->w), m, 0, 0, at);
+    const rt_vec3 albedo = rt_texture_albedo(c->s, c->pn, m, 0, 0, at);
     if (c->pc.aovs && !p->aov.done)
         p->aov = (aov_rec){1, clamp3(albedo), rt_v3(0, 0, 0)};
     if (lit(c, v) && !forced)
@@ -248,7 +259,7 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
  * flight finds only on the few segments it scatters on, at a point chosen
  * without regard to the light. Here a point y on a light first
  * (rt_lights_point), then with probability q = 1 - T (T the segment's
- * transmittance through its media spans sp: as many shadow rays as the
+ * transmittance through its media spans S: as many shadow rays as the
  * flight's own scattering would trace) a distance along the segment,
  * equi-angular about y (Kulla and Fajardo: density h / ((b - a)(h^2 +
  * (s - s_y)^2)), h the distance of y from the line, b - a the angle the
@@ -263,19 +274,18 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
  * the bounce's +10 (the distance), +11 (the light; its rest decides q,
  * then the roulette), +12-13 (the point on it) (sampler.h). Unbiased:
  * test_lights's furnace with fog. */
-static int inscatter(const p2 *c, path *p, const vertex *v, const span *sp, uint32_t ns)
+static int inscatter(const p2 *c, path *p, const vertex *v, const spans *S)
 {
-    if (!(c->inscatter && v->pdf == 0.0 && lit(c, v) && ns))
+    const span *sp = S->sp;
+    const uint32_t ns = S->n;
+    if (!(c->inscatter && v->pdf == 0.0 && lit(c, v) && ns && S->whole < RT_INSCATTER_THIN))
         return 0;
-    const double len = rt_v3_len(p->ray.dir);
-    double ta = INFINITY, tb = 0, whole = 0;
+    const double len = S->len, whole = S->whole;
+    double ta = INFINITY, tb = 0; /* the spans' extent */
     for (uint32_t i = 0; i < ns; i++) {
         ta = sp[i].a < ta ? sp[i].a : ta;
         tb = sp[i].b > tb ? sp[i].b : tb;
-        whole += sp[i].density * (sp[i].b - sp[i].a) * len;
     }
-    if (!(whole < RT_INSCATTER_THIN))
-        return 0;
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_INSCATTER);
     const double ud = rt_sampler_get1d(&p->smp), ul = rt_sampler_get1d(&p->smp);
     rt_light_point lp;
@@ -371,16 +381,15 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
             /* a fuzzy metal samples the lights too: its scattered direction
              * has a density (rt_warp_fuzz_pdf), so MIS weighs the two */
             const int fuzzy = m->kind == RT_MAT_METAL && m->fuzz > 0.0 && c->r->lights;
-            const rt_nee_bsdf b = {rec.normal, fuzzy ? rt_v3_reflect(rt_v3_unit(p->ray.dir), rec.normal) : rec.normal,
-                                   m->fuzz};
+            const rt_vec3 mirror = fuzzy ? rt_v3_reflect(rt_v3_unit(p->ray.dir), rec.normal) : rec.normal;
             if (fuzzy && lit(c, vx))
-                direct2(c, p, vx, rec.p, b, m->albedo);
+                direct2(c, p, vx, rec.p, (rt_nee_bsdf){rec.normal, mirror, m->fuzz}, m->albedo);
             if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
                 return 0;
             if (m->kind == RT_MAT_LAMBERTIAN)
                 att = col;
             if (fuzzy)
-                vx->pdf = rt_warp_fuzz_pdf(b.m, m->fuzz, rt_v3_unit(next.dir));
+                vx->pdf = rt_warp_fuzz_pdf(mirror, m->fuzz, rt_v3_unit(next.dir));
         }
     }
     p->thr = rt_v3_mul(p->thr, att);
@@ -403,10 +412,12 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_FLIGHT);
         double tm;
         uint32_t k;
-        span sp[SPANS];
-        const uint32_t ns = c->s->media.media.n ? spans_of(c, &p->ray, found ? h.t : INFINITY, sp) : 0;
-        const int in_medium = medium_event(p, sp, ns, &tm, &k);
-        const int forced = c->inscatter && inscatter(c, p, &v, sp, ns);
+        spans S;
+        S.n = 0;
+        if (c->s->media.media.n)
+            spans_of(c, &p->ray, found ? h.t : INFINITY, &S);
+        const int in_medium = medium_event(p, &S, &tm, &k);
+        const int forced = c->inscatter && inscatter(c, p, &v, &S);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_SCATTER);
         if (in_medium) {
             scatter_medium(c, p, &v, k, tm, forced);
