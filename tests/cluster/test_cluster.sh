@@ -367,11 +367,26 @@ slurm | slurmlost)
         same_image "lost node under srun" "$out" || show "$log"
         finish
     fi
+    # Open MPI 4.1's TCP transport crashes a rank now and then when srun
+    # starts the job here (a call through a null handler; 1 job in 10 to
+    # 30, also with tools/mpi_startup.c, which has no rt-mpi code:
+    # docs/notes/farm.md). A job that failed with that crash's own report
+    # is submitted once more, and said so; any other failure, or the crash
+    # twice, fails the test.
+    ompi_null_crash() { grep -q 'Failing at address: (nil)' "$1" && grep -q 'Segmentation fault' "$1"; }
     for l in srun mpirun; do
         t=$(now)
-        j=$(RT_LAUNCHER=$l RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=4 RT_ARGS=-q \
-            submit "N3-$l" -N 3 --ntasks-per-node=2 -c 1 "$SCRIPT") || { fail "sbatch -N 3 ($l) refused"; continue; }
-        if ! wait_done "$j" 120; then
+        for try in 1 2; do
+            j=$(RT_LAUNCHER=$l RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=4 RT_ARGS=-q \
+                submit "N3-$l" -N 3 --ntasks-per-node=2 -c 1 "$SCRIPT") || break
+            wait_done "$j" 120 || break
+            [[ $try == 1 && $l == srun && $(field "$j" JobState) == FAILED ]] && ompi_null_crash "$WORK/N3-$l-$j.out" ||
+                break
+            note "sbatch -N 3 ($l): job $j hit Open MPI's TCP crash (job output below); submitting it once more"
+            show "$WORK/N3-$l-$j.out" 12
+        done
+        [[ -n $j ]] || { fail "sbatch -N 3 ($l) refused"; continue; }
+        if [[ ! $JOB_STATE =~ ^(COMPLETED|FAILED|CANCELLED|TIMEOUT|NODE_FAIL|OUT_OF_MEMORY)$ ]]; then
             fail "sbatch -N 3 ($l): job $j not done after 120 s (state $JOB_STATE)"; show "$WORK/N3-$l-$j.out"; continue
         fi
         got="$JOB_STATE $(field "$j" ExitCode) $(field "$j" NodeList)"
