@@ -21,7 +21,6 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
                                                             double tmin, double *best_t, uint32_t *best,
                                                             const int simd, const int anyhit)
 {
-    const double a = rt_v3_len2(ray->dir);
     const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
     const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
     const float tmin_f = near_bound(tmin);
@@ -42,7 +41,7 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
     int32_t code = 0;
     for (;;) {
         if (code < 0) {
-            const int any = rt_world_test_item(w, ~(uint32_t)code, ray, a, time, tmin, best_t, best);
+            const int any = rt_world_test_item(w, ~(uint32_t)code, ray, time, tmin, best_t, best);
             if (any && anyhit)
                 return 1;
             if (any)
