@@ -21,19 +21,21 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
                                                             double tmin, double *best_t, uint32_t *best,
                                                             const int simd, const int anyhit)
 {
-    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
-    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
     const float tmin_f = near_bound(tmin);
     float tfar_f = far_bound(*best_t);
 #if WTRAV_AVX
     (void)simd;
-    const fbox_ray8 vr = {_mm256_set1_ps(fo[0]), _mm256_set1_ps(fo[1]), _mm256_set1_ps(fo[2]), _mm256_set1_ps(fi[0]),
-                          _mm256_set1_ps(fi[1]), _mm256_set1_ps(fi[2]), _mm256_set1_ps(tmin_f)};
-#elif RT_BVH_HAVE_SSE2
+    fbox_mray8 vr;
+    fbox_mray8_set(&vr, ray, tmin_f);
+#else
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+#if RT_BVH_HAVE_SSE2
     const fbox_ray4 vr = {_mm_set1_ps(fo[0]), _mm_set1_ps(fo[1]), _mm_set1_ps(fo[2]), _mm_set1_ps(fi[0]),
                           _mm_set1_ps(fi[1]), _mm_set1_ps(fi[2]), _mm_set1_ps(tmin_f)};
 #else
     (void)simd;
+#endif
 #endif
     int32_t stack_node[WSTACK];
     float stack_t[WSTACK];
