@@ -287,20 +287,28 @@ static inline __attribute__((always_inline)) int fbox_descend(int mask, const fl
 }
 
 /* fbox_descend for a walk that wants any hit, not the nearest: the first
- * child kept becomes *code, the others go onto the stack as they come. */
+ * child kept becomes *code, the others go onto the stack as they come; a
+ * child equal to skip is dropped (the world's any-hit walk: the leaf of the
+ * shape whose hit it starts from, world_traverse.h). */
 static inline __attribute__((always_inline)) int fbox_descend_any(int mask, const float tn[FBOX_WIDTH],
-                                                                  const int32_t child[FBOX_WIDTH], int32_t *code,
-                                                                  int32_t *stack_node, float *stack_t, int *sp)
+                                                                  const int32_t child[FBOX_WIDTH], int32_t skip,
+                                                                  int32_t *code, int32_t *stack_node, float *stack_t,
+                                                                  int *sp)
 {
-    if (!mask)
-        return 0;
-    *code = child[__builtin_ctz(mask)];
-    for (mask &= mask - 1; mask; mask &= mask - 1) {
+    int first = 1;
+    for (; mask; mask &= mask - 1) {
         const int k = __builtin_ctz(mask);
-        stack_node[*sp] = child[k];
-        stack_t[(*sp)++] = tn[k];
+        if (child[k] == skip)
+            continue;
+        if (first) {
+            *code = child[k];
+            first = 0;
+        } else {
+            stack_node[*sp] = child[k];
+            stack_t[(*sp)++] = tn[k];
+        }
     }
-    return 1;
+    return !first;
 }
 
 #endif

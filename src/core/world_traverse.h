@@ -15,7 +15,10 @@
  * do the same float operations in the same order, so they visit the same
  * leaves; the leaves' tests are in double (world_internal.h) and their rule
  * does not depend on the order, so every variant and brute force agree.
- * The any-hit walk takes the children in slot order, unsorted. */
+ * The any-hit walk takes the children in slot order, unsorted, and skips
+ * the leaf of the shape whose hit (at *best_t, rt_world_shape_t's t) it
+ * starts from: that test would compute the same t again and lose the tie
+ * to itself, so it can never replace the hit. */
 
 static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, const rt_ray *ray, double time,
                                                             double tmin, double *best_t, uint32_t *best,
@@ -60,7 +63,8 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
 #else
             mask = fbox_mm_portable(rows, fo, fi, tmin_f, tfar_f, tn);
 #endif
-            if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp)
+            if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, ~(int32_t)*best, &code, stack_node, stack_t,
+                                          &sp)
                        : fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
                 continue;
         }
