@@ -130,6 +130,7 @@ static inline __attribute__((always_inline, target("avx"))) int fbox_avx(const f
     _mm256_storeu_ps(tn, vn);
     return _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ));
 }
+
 #endif
 
 /* The same test without choosing the planes by the direction's signs: each
@@ -184,16 +185,50 @@ static inline __attribute__((always_inline)) int fbox_mm_sse(const float (*rows)
 #endif
 
 #if RT_BVH_HAVE_AVX
+/* fbox_mm_avx's ray: the origin and the negated inverse direction
+ * broadcast. The plane distance (b - o) * i is computed as (o - b) * -i,
+ * which is the same number (IEEE subtraction and multiplication are exact
+ * under negation; only a zero's sign may differ, and a zero compares and
+ * orders as its negation), so the box's row b can be the instruction's
+ * memory operand: six loads fewer per node. */
+typedef struct fbox_mray8 {
+    __m256 ox, oy, oz, nx, ny, nz, tmin;
+} fbox_mray8;
+
+/* v from a ray and tmin_f: (float) of the origin and safe_inv of the
+ * direction per axis, with the three axes' conversions, safe_inv's clamp
+ * and its division done at once (one rounding and one IEEE division per
+ * lane, as the scalar code: the same bits). */
+static inline __attribute__((always_inline, target("avx"))) void fbox_mray8_set(fbox_mray8 *v, const rt_ray *ray,
+                                                                              float tmin_f)
+{
+    const __m128 fo = _mm256_cvtpd_ps(_mm256_set_pd(0.0, ray->orig.z, ray->orig.y, ray->orig.x));
+    const __m128 fd = _mm256_cvtpd_ps(_mm256_set_pd(1.0, ray->dir.z, ray->dir.y, ray->dir.x));
+    const __m128 tiny = _mm_cmplt_ps(_mm_andnot_ps(_mm_set1_ps(-0.0f), fd), _mm_set1_ps(1e-30f));
+    const __m128 clamp = _mm_blendv_ps(_mm_set1_ps(1e-30f), _mm_set1_ps(-1e-30f), _mm_cmplt_ps(fd, _mm_setzero_ps()));
+    const __m128 fi = _mm_div_ps(_mm_set1_ps(1.0f), _mm_blendv_ps(fd, clamp, tiny));
+    const __m128 ni = _mm_xor_ps(fi, _mm_set1_ps(-0.0f));
+    const __m256 o8 = _mm256_insertf128_ps(_mm256_castps128_ps256(fo), fo, 1);
+    const __m256 n8 = _mm256_insertf128_ps(_mm256_castps128_ps256(ni), ni, 1);
+    v->ox = _mm256_permute_ps(o8, 0x00);
+    v->oy = _mm256_permute_ps(o8, 0x55);
+    v->oz = _mm256_permute_ps(o8, 0xaa);
+    v->nx = _mm256_permute_ps(n8, 0x00);
+    v->ny = _mm256_permute_ps(n8, 0x55);
+    v->nz = _mm256_permute_ps(n8, 0xaa);
+    v->tmin = _mm256_set1_ps(tmin_f);
+}
+
 static inline __attribute__((always_inline, target("avx"))) int fbox_mm_avx(const float (*rows)[FBOX_WIDTH],
-                                                                            const fbox_ray8 *v, float tfar_f,
+                                                                            const fbox_mray8 *v, float tfar_f,
                                                                             float tn[FBOX_WIDTH])
 {
-    __m256 ax = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[0]), v->ox), v->ix);
-    __m256 ay = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[1]), v->oy), v->iy);
-    __m256 az = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[2]), v->oz), v->iz);
-    __m256 bx = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[3]), v->ox), v->ix);
-    __m256 by = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[4]), v->oy), v->iy);
-    __m256 bz = _mm256_mul_ps(_mm256_sub_ps(_mm256_load_ps(rows[5]), v->oz), v->iz);
+    __m256 ax = _mm256_mul_ps(_mm256_sub_ps(v->ox, _mm256_load_ps(rows[0])), v->nx);
+    __m256 ay = _mm256_mul_ps(_mm256_sub_ps(v->oy, _mm256_load_ps(rows[1])), v->ny);
+    __m256 az = _mm256_mul_ps(_mm256_sub_ps(v->oz, _mm256_load_ps(rows[2])), v->nz);
+    __m256 bx = _mm256_mul_ps(_mm256_sub_ps(v->ox, _mm256_load_ps(rows[3])), v->nx);
+    __m256 by = _mm256_mul_ps(_mm256_sub_ps(v->oy, _mm256_load_ps(rows[4])), v->ny);
+    __m256 bz = _mm256_mul_ps(_mm256_sub_ps(v->oz, _mm256_load_ps(rows[5])), v->nz);
     __m256 vn = _mm256_max_ps(_mm256_max_ps(_mm256_min_ps(ax, bx), _mm256_min_ps(ay, by)),
                               _mm256_max_ps(_mm256_min_ps(az, bz), v->tmin));
     __m256 vf = _mm256_min_ps(_mm256_min_ps(_mm256_max_ps(ax, bx), _mm256_max_ps(ay, by)),
@@ -252,20 +287,28 @@ static inline __attribute__((always_inline)) int fbox_descend(int mask, const fl
 }
 
 /* fbox_descend for a walk that wants any hit, not the nearest: the first
- * child kept becomes *code, the others go onto the stack as they come. */
+ * child kept becomes *code, the others go onto the stack as they come; a
+ * child equal to skip is dropped (the world's any-hit walk: the leaf of the
+ * shape whose hit it starts from, world_traverse.h). */
 static inline __attribute__((always_inline)) int fbox_descend_any(int mask, const float tn[FBOX_WIDTH],
-                                                                  const int32_t child[FBOX_WIDTH], int32_t *code,
-                                                                  int32_t *stack_node, float *stack_t, int *sp)
+                                                                  const int32_t child[FBOX_WIDTH], int32_t skip,
+                                                                  int32_t *code, int32_t *stack_node, float *stack_t,
+                                                                  int *sp)
 {
-    if (!mask)
-        return 0;
-    *code = child[__builtin_ctz(mask)];
-    for (mask &= mask - 1; mask; mask &= mask - 1) {
+    int first = 1;
+    for (; mask; mask &= mask - 1) {
         const int k = __builtin_ctz(mask);
-        stack_node[*sp] = child[k];
-        stack_t[(*sp)++] = tn[k];
+        if (child[k] == skip)
+            continue;
+        if (first) {
+            *code = child[k];
+            first = 0;
+        } else {
+            stack_node[*sp] = child[k];
+            stack_t[(*sp)++] = tn[k];
+        }
     }
-    return 1;
+    return !first;
 }
 
 #endif

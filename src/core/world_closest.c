@@ -73,9 +73,9 @@ static __attribute__((noinline)) int walk_base(const rt_world *w, const rt_ray *
 static __attribute__((noinline)) int walk_brute(const rt_world *w, const rt_ray *ray, double time, double tmin,
                                                 double *best_t, uint32_t *best, int anyhit)
 {
-    const double a = rt_v3_len2(ray->dir);
+    const uint32_t self = anyhit ? *best : UINT32_MAX; /* skipped as in world_traverse.h */
     for (uint32_t i = 0; i < w->nitems; i++)
-        if (rt_world_test_item(w, i, ray, a, time, tmin, best_t, best) && anyhit)
+        if (i != self && rt_world_test_item(w, i, ray, time, tmin, best_t, best) && anyhit)
             return 1;
     return 0;
 }

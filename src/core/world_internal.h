@@ -98,8 +98,8 @@ static inline rt_vec3 rt_mover_center(const rt_mover *m, double time)
  * near with a lower item (quads, then moving spheres, then static spheres:
  * the order of rt_world_closest's ties); returns 1 if it does. A static
  * sphere's t has rt_accel_closest's bits (sphere.h). */
-static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double a, double time,
-                                     double tmin, double *best_t, uint32_t *best)
+static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray *ray, double time, double tmin,
+                                     double *best_t, uint32_t *best)
 {
     double t;
     int hit;
@@ -107,10 +107,12 @@ static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray
         hit = rt_quad_t(&w->quads[i], ray, tmin, *best_t, &t);
     } else if (i < w->ns) {
         const rt_mover *m = &w->s->shapes.movers.items[i - w->nq];
-        hit = rt_sphere_root(rt_mover_center(m, time), m->radius * m->radius, ray, a, tmin, &t) && t <= *best_t;
+        hit = rt_sphere_root(rt_mover_center(m, time), m->radius * m->radius, ray, rt_v3_len2(ray->dir), tmin, &t) &&
+              t <= *best_t;
     } else {
         const rt_sphere *sp = &w->s->spheres[i - w->ns];
-        hit = rt_sphere_root(sp->center, sp->radius * sp->radius, ray, a, tmin, &t) && t <= *best_t;
+        hit = rt_sphere_root(sp->center, sp->radius * sp->radius, ray, rt_v3_len2(ray->dir), tmin, &t) &&
+              t <= *best_t;
     }
     if (hit && (t < *best_t || i < *best)) {
         *best_t = t;

@@ -15,26 +15,30 @@
  * do the same float operations in the same order, so they visit the same
  * leaves; the leaves' tests are in double (world_internal.h) and their rule
  * does not depend on the order, so every variant and brute force agree.
- * The any-hit walk takes the children in slot order, unsorted. */
+ * The any-hit walk takes the children in slot order, unsorted, and skips
+ * the leaf of the shape whose hit (at *best_t, rt_world_shape_t's t) it
+ * starts from: that test would compute the same t again and lose the tie
+ * to itself, so it can never replace the hit. */
 
 static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, const rt_ray *ray, double time,
                                                             double tmin, double *best_t, uint32_t *best,
                                                             const int simd, const int anyhit)
 {
-    const double a = rt_v3_len2(ray->dir);
-    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
-    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
     const float tmin_f = near_bound(tmin);
     float tfar_f = far_bound(*best_t);
 #if WTRAV_AVX
     (void)simd;
-    const fbox_ray8 vr = {_mm256_set1_ps(fo[0]), _mm256_set1_ps(fo[1]), _mm256_set1_ps(fo[2]), _mm256_set1_ps(fi[0]),
-                          _mm256_set1_ps(fi[1]), _mm256_set1_ps(fi[2]), _mm256_set1_ps(tmin_f)};
-#elif RT_BVH_HAVE_SSE2
+    fbox_mray8 vr;
+    fbox_mray8_set(&vr, ray, tmin_f);
+#else
+    const float fo[3] = {(float)ray->orig.x, (float)ray->orig.y, (float)ray->orig.z};
+    const float fi[3] = {safe_inv(ray->dir.x), safe_inv(ray->dir.y), safe_inv(ray->dir.z)};
+#if RT_BVH_HAVE_SSE2
     const fbox_ray4 vr = {_mm_set1_ps(fo[0]), _mm_set1_ps(fo[1]), _mm_set1_ps(fo[2]), _mm_set1_ps(fi[0]),
                           _mm_set1_ps(fi[1]), _mm_set1_ps(fi[2]), _mm_set1_ps(tmin_f)};
 #else
     (void)simd;
+#endif
 #endif
     int32_t stack_node[WSTACK];
     float stack_t[WSTACK];
@@ -42,7 +46,7 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
     int32_t code = 0;
     for (;;) {
         if (code < 0) {
-            const int any = rt_world_test_item(w, ~(uint32_t)code, ray, a, time, tmin, best_t, best);
+            const int any = rt_world_test_item(w, ~(uint32_t)code, ray, time, tmin, best_t, best);
             if (any && anyhit)
                 return 1;
             if (any)
@@ -59,7 +63,8 @@ static inline __attribute__((always_inline)) int WTRAVERSE(const rt_world *w, co
 #else
             mask = fbox_mm_portable(rows, fo, fi, tmin_f, tfar_f, tn);
 #endif
-            if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp)
+            if (anyhit ? fbox_descend_any(mask & n->nchild, tn, n->child, ~(int32_t)*best, &code, stack_node, stack_t,
+                                          &sp)
                        : fbox_descend(mask & n->nchild, tn, n->child, &code, stack_node, stack_t, &sp))
                 continue;
         }

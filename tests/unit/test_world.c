@@ -9,6 +9,7 @@
 #include "check.h"
 #include "core_internal.h"
 #include "detmath.h"
+#include "fbox.h"
 #include "hash.h"
 #include "rng.h"
 #include "scenes.h"
@@ -526,8 +527,46 @@ static void check_bytes(void)
     }
 }
 
+#if RT_BVH_HAVE_AVX
+static uint32_t bits_of(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+/* The AVX walk's ray set-up (fbox.h's fbox_mray8_set) against the scalar
+ * one it replaces, to the bit in every lane: (float) of the origin and
+ * minus safe_inv of the direction, for zeros, values under safe_inv's clamp
+ * (either sign), a float overflow and ordinary values. */
+__attribute__((target("avx"))) static void check_mray(void)
+{
+    const double v[] = {0.0, -0.0, 1e-31, -1e-31, 1e-40, -1e-300, 2.5, -3.75, 0.1, 1e39, -1e39};
+    const int n = (int)(sizeof v / sizeof v[0]);
+    for (int i = 0; i < n; i++) {
+        const double o[3] = {v[i], v[(i + 1) % n], v[(i + 2) % n]}, d[3] = {v[(i + 3) % n], v[(i + 4) % n], v[i]};
+        const rt_ray r = ray_of(rt_v3(o[0], o[1], o[2]), rt_v3(d[0], d[1], d[2]));
+        fbox_mray8 m;
+        fbox_mray8_set(&m, &r, 0.25f);
+        const __m256 got[6] = {m.ox, m.oy, m.oz, m.nx, m.ny, m.nz};
+        for (int a = 0; a < 6; a++) {
+            float lane[8];
+            _mm256_storeu_ps(lane, got[a]);
+            const float want = a < 3 ? (float)o[a] : -safe_inv(d[a - 3]);
+            for (int k = 0; k < 8; k++)
+                CHECK_EQ_U64(bits_of(lane[k]), bits_of(want));
+        }
+    }
+}
+#endif
+
 int main(void)
 {
+#if RT_BVH_HAVE_AVX
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx"))
+        check_mray();
+#endif
     check_quad();
     check_mover();
     check_instance();
