@@ -11,18 +11,35 @@
 #define T_MIN 0.001 /* path.h's shadow-acne bias, as rt_nee_closest's */
 #define PI 3.14159265358979323846
 
-rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
+/* rt_nee_emitted's general case: the face and the texture at the hit. */
+static rt_vec3 surface_emission(const rt_renderer *r, const rt_material *m, const rt_whit *h, const rt_ray *ray,
+                                double time)
 {
-    const rt_scene *s = r->scene;
-    const rt_material *m = &s->materials[h->material];
-    if (m->kind != RT_MAT_EMITTER)
-        return rt_v3(0, 0, 0);
     rt_surface rec;
     double u, v;
     rt_world_surface(r->world, h, ray, time, m->texture != 0, &rec, &u, &v);
     if (!rec.front_face && !(m->flags & RT_MAT_TWO_SIDED))
         return rt_v3(0, 0, 0);
-    return rt_texture_albedo(s, rt_world_perlin(r->world), m, u, v, rec.p);
+    return rt_texture_albedo(r->scene, rt_world_perlin(r->world), m, u, v, rec.p);
+}
+
+/* rt_nee_emitted, inline in shadow_light: an untextured two-sided emitter
+ * (book 2's lights) sends its emission from every point of both faces, so
+ * no surface record (113 instructions a shadow ray that reached such a
+ * light, of some 900: docs/PERFORMANCE.md). */
+static inline rt_vec3 emission(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
+{
+    const rt_material *m = &r->scene->materials[h->material];
+    if (m->kind != RT_MAT_EMITTER)
+        return rt_v3(0, 0, 0);
+    if (!m->texture && (m->flags & RT_MAT_TWO_SIDED))
+        return m->emit; /* rt_texture_albedo's value */
+    return surface_emission(r, m, h, ray, time);
+}
+
+rt_vec3 rt_nee_emitted(const rt_renderer *r, const rt_whit *h, const rt_ray *ray, double time)
+{
+    return emission(r, h, ray, time);
 }
 
 /* The transmittance of the media along ray (unit direction) over
@@ -128,7 +145,7 @@ static int shadow_light(const rt_renderer *r, const rt_ray *ray, uint32_t kind, 
     if (!rt_world_shape_t(r->world, kind, index, ray, time, T_MIN, &h->t) || h->t < min_t ||
         rt_world_occluded(r->world, ray, time, T_MIN, h->t, kind, index))
         return 0;
-    const rt_vec3 le = rt_nee_emitted(r, h, ray, time);
+    const rt_vec3 le = emission(r, h, ray, time);
     if (le.x == 0.0 && le.y == 0.0 && le.z == 0.0)
         return 0;
     *light = r->scene->media.media.n ? rt_v3_scale(le, transmittance(r, ray, h->t)) : le;

@@ -9,13 +9,15 @@
  * cornell-box's and cornell-smoke's channel means with and without light
  * sampling. Each
  * within four standard errors, from the random sampler's independent
- * samples. */
+ * samples. And the emission a shadow ray finds (rt_nee_emitted) on each
+ * face of a two-sided, a one-sided and a textured emitter. */
 #include <math.h>
 #include <stdlib.h>
 
 #include "check.h"
 #include "core_internal.h"
 #include "lights.h"
+#include "nee.h"
 #include "scenes.h"
 #include "status.h"
 #include "world.h"
@@ -234,8 +236,48 @@ static void check_cornell(const char *name)
     rt_scene_free(&s);
 }
 
+/* rt_nee_emitted from below (the front) and above (the back) of three
+ * quads facing -y: two-sided (4), one-sided (2: nothing from the back),
+ * two-sided with a solid texture (1, 2, 3) over an emission of 9 (the
+ * texture's value counts). */
+static void check_emitted(void)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t two, one, tex, textured;
+    const rt_texture solid = {.kind = RT_TEX_SOLID, .color = {1, 2, 3}};
+    rt_material e2 = rt_scene_emitter(rt_v3(4, 4, 4), 1), e1 = rt_scene_emitter(rt_v3(2, 2, 2), 0);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &e2, &two), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &e1, &one), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_texture(&s, &solid, &tex), RT_OK);
+    rt_material et = rt_scene_textured(rt_scene_emitter(rt_v3(9, 9, 9), 1), tex);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &et, &textured), RT_OK);
+    const uint32_t mats[3] = {two, one, textured};
+    for (int i = 0; i < 3; i++)
+        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(2 * i, 1, 0), rt_v3(1, 0, 0), rt_v3(0, 0, 1), mats[i], NULL), RT_OK);
+    s.background_kind = RT_BACKGROUND_COLOR;
+    s.background = rt_v3(0, 0, 0);
+    s.camera = (rt_camera_desc){rt_v3(0, 0, -5), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 40, 0.0, 1.0, RT_PIXELS_BOOK2};
+    rt_accel *a;
+    const rt_renderer r = renderer(&s, &a, 1, 1, 2, RT_LIGHT_MIS, 0);
+    /* channels 0 and 1, from below and from above */
+    const double want[3][2][2] = {{{4, 4}, {4, 4}}, {{2, 2}, {0, 0}}, {{1, 2}, {1, 2}}};
+    for (int i = 0; i < 3; i++)
+        for (int side = 0; side < 2; side++) {
+            const rt_ray ray = {rt_v3(2 * i + 0.5, side ? 2 : 0, 0.5), rt_v3(0, side ? -1 : 1, 0)};
+            rt_whit h;
+            CHECK(rt_nee_closest(&r, &ray, 0.0, &h));
+            const rt_vec3 le = rt_nee_emitted(&r, &h, &ray, 0.0);
+            CHECK_NEAR(le.x, want[i][side][0], 0.0);
+            CHECK_NEAR(le.y, want[i][side][1], 0.0);
+        }
+    rt_accel_free(a);
+    rt_scene_free(&s);
+}
+
 int main(void)
 {
+    check_emitted();
     for (int faint = 0; faint <= 1; faint++) {
         check_analytic(0, faint);
         check_analytic(1, faint);
