@@ -130,7 +130,6 @@ static inline __attribute__((always_inline, target("avx"))) int fbox_avx(const f
     _mm256_storeu_ps(tn, vn);
     return _mm256_movemask_ps(_mm256_cmp_ps(vn, vf, _CMP_LE_OQ));
 }
-
 #endif
 
 /* The same test without choosing the planes by the direction's signs: each

@@ -390,7 +390,7 @@ slurm | slurmlost)
             j=$(RT_LAUNCHER=$l RT_WIDTH=160 RT_HEIGHT=100 RT_SAMPLES=4 RT_ARGS=-q \
                 submit "N3-$l" -N 3 --ntasks-per-node=2 -c 1 "$SCRIPT") || break
             wait_done "$j" 120 || break
-            [[ $try == 1 && $l == srun && $(field "$j" JobState) == FAILED ]] && ompi_null_crash "$WORK/N3-$l-$j.out" ||
+            [[ $try == 1 && $l == srun && $JOB_STATE == FAILED ]] && ompi_null_crash "$WORK/N3-$l-$j.out" ||
                 break
             note "sbatch -N 3 ($l): job $j hit Open MPI's TCP crash (job output below); submitting it once more"
             show "$WORK/N3-$l-$j.out" 12
