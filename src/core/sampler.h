@@ -334,6 +334,19 @@ static inline uint64_t rt_sampler_get2d(rt_sampler *s)
     return rt_sampler_pair(s, pair);
 }
 
+/* The 2D number a request at dimension dim (even) would return, without
+ * drawing it, where that number is a function of the dimension alone
+ * (Sobol: returns 1 and sets *u); the random sampler's depend on the draws
+ * before them (returns 0). A caller that takes it seeks to dim + 2, as the
+ * request would have. */
+static inline int rt_sampler_peek2d(const rt_sampler *s, uint32_t dim, uint64_t *u)
+{
+    if (s->kind == RT_SAMPLER_RANDOM)
+        return 0;
+    *u = rt_sampler_pair(s, dim >> 1);
+    return 1;
+}
+
 /* The first coordinate of pair `pair` of s's sample (its .x), without
  * Sobol's second dimension: what a 1D request at an even dimension needs. */
 static inline uint32_t rt_sampler_first(const rt_sampler *s, uint32_t pair)

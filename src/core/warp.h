@@ -73,11 +73,18 @@ static inline rt_vec3 rt_warp_cosine(uint64_t u, rt_vec3 n)
     return rt_v3_add(n, rt_warp_sphere(u));
 }
 
-/* The same, n itself when they cancel: a lambertian bounce's direction. */
+/* n plus the uniform direction s (rt_warp_sphere's), n itself when they
+ * cancel: a lambertian bounce's direction. */
+static inline rt_vec3 rt_warp_lambert_of(rt_vec3 s, rt_vec3 n)
+{
+    const rt_vec3 d = rt_v3_add(n, s);
+    return rt_v3_near_zero(d) ? n : d;
+}
+
+/* The same from the 2D number u. */
 static inline rt_vec3 rt_warp_lambert(uint64_t u, rt_vec3 n)
 {
-    const rt_vec3 d = rt_warp_cosine(u, n);
-    return rt_v3_near_zero(d) ? n : d;
+    return rt_warp_lambert_of(rt_warp_sphere(u), n);
 }
 
 #endif

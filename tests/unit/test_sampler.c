@@ -222,8 +222,44 @@ static void check_interface(void)
     CHECK_EQ_INT(bad, 0);
 }
 
+/* rt_sampler_peek2d: for Sobol, at each even dimension of the book-2
+ * layout's bounces, the number the request there returns, the sampler
+ * left as it was; for the random sampler, nothing (its numbers depend on
+ * the draws before them). */
+static void check_peek(void)
+{
+    int bad = 0, peeked = 0;
+    const uint64_t key = rt_rng_pixel_key(9, 17);
+    for (int kind = RT_SAMPLER_RANDOM; kind <= RT_SAMPLER_SOBOL; kind++) {
+        rt_sampler_pixel px = {0};
+        rt_sampler_for_pixel(&px, kind, key);
+        for (uint32_t i = 0; i < 40; i += 3) {
+            rt_sampler s = rt_sampler_start(&px, i);
+            for (uint32_t dim = RT_SAMPLER2_DIM_BOUNCE; dim < 120; dim += 2) {
+                const rt_sampler before = s;
+                uint64_t u = 0;
+                const int got = rt_sampler_peek2d(&s, dim, &u);
+                rt_sampler b = before, a = s; /* s as it was: the same next number */
+                bad += rt_sampler_get2d(&a) != rt_sampler_get2d(&b) || a.dim != b.dim;
+                rt_sampler_seek(&s, dim);
+                const uint64_t want = rt_sampler_get2d(&s);
+                if (kind == RT_SAMPLER_RANDOM) {
+                    bad += got != 0;
+                    continue;
+                }
+                peeked++;
+                bad += got != 1 || u != want;
+            }
+        }
+    }
+    printf("peek2d: %d wrong of %d Sobol numbers peeked and the random sampler's refusals\n", bad, peeked);
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(peeked, 14 * 57);
+}
+
 int main(void)
 {
+    check_peek();
     check_interface();
     check_sobol1();
     check_tables();
