@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hash.h"
 #include "image_write.h"
 #include "mem.h"
 #include "policy.h"
