@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "hash.h"
 #include "image_write.h"
 #include "mem.h"
 #include "policy.h"
@@ -120,7 +119,7 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
     int st = rt_scene_deserialize(&s->scene, blob, len);
     if (st)
         rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
-    s->scene_hash = rt_hash_bytes(RT_HASH_INIT, blob, len);
+    s->scene_hash = rt_scene_bytes_hash(blob, len); /* the bytes' FNV-1a, from their checked checksum */
     free(blob);
     return RT_EXIT_OK;
 }

@@ -271,5 +271,10 @@ int rt_scene_build_final(rt_scene *s, uint64_t seed, int grid);
  * precedes it. serialize -> deserialize -> serialize is byte-identical. */
 int rt_scene_serialize(const rt_scene *s, uint8_t **buf, size_t *len);
 int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len);
+/* The 64-bit FNV-1a of a whole serialized scene (its checksum included)
+ * that rt_scene_deserialize accepted: its checksum, the FNV-1a of all that
+ * precedes it, carried on over the checksum's 8 bytes, so no pass over the
+ * rest again (a textured scene's megabytes of texels). */
+uint64_t rt_scene_bytes_hash(const uint8_t *buf, size_t len);
 
 #endif

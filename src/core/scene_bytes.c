@@ -429,6 +429,15 @@ static int get_book2(reader *r, rt_scene *s, uint32_t nm, uint32_t ns, counts2 *
     return st == RT_EINVAL || st == RT_EOVERFLOW ? RT_EFORMAT : st;
 }
 
+/* The checksum a serialized scene ends with (len >= 8). */
+static uint64_t checksum_of(const uint8_t *buf, size_t len)
+{
+    uint64_t sum = 0;
+    for (int i = 0; i < 8; i++)
+        sum |= (uint64_t)buf[len - 8 + i] << (8 * i);
+    return sum;
+}
+
 int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len)
 {
     rt_scene_init(s);
@@ -468,10 +477,7 @@ int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len)
     }
     if ((uint64_t)len != scene_bytes(nm, ns, &k, version))
         return RT_EFORMAT;
-    uint64_t sum = 0;
-    for (int i = 0; i < 8; i++)
-        sum |= (uint64_t)buf[len - 8 + i] << (8 * i);
-    if (sum != rt_hash_bytes(RT_HASH_INIT, buf, len - 8))
+    if (checksum_of(buf, len) != rt_hash_bytes(RT_HASH_INIT, buf, len - 8))
         return RT_ECHECKSUM;
     rt_camera_desc *c = &s->camera;
     c->lookfrom = get_v3(&r);
@@ -516,6 +522,11 @@ int rt_scene_deserialize(rt_scene *s, const uint8_t *buf, size_t len)
     if (st)
         rt_scene_free(s);
     return st;
+}
+
+uint64_t rt_scene_bytes_hash(const uint8_t *buf, size_t len)
+{
+    return rt_hash_bytes(checksum_of(buf, len), buf + len - 8, 8);
 }
 
 uint64_t rt_scene_hash(const rt_scene *s)

@@ -25,10 +25,21 @@ typedef struct wnode {
     uint32_t first, count; /* leaf: items [first, first + count); inner: count 0, children me + 1, first */
 } wnode;
 
+typedef struct keyed {
+    double key;
+    uint32_t item;
+} keyed;
+
+/* The build's state: its nodes, the items' leaf order, and each axis's
+ * order of the items by their boxes' centres (ord[k]: the key, then the
+ * item, a total order), a node's items a segment of each; side and
+ * scratch are the partition's. */
 typedef struct bin {
     wnode *nodes;
     uint32_t n_nodes;
     uint32_t *items;
+    keyed *ord[3], *scratch;
+    uint8_t *side;
 } bin;
 
 typedef struct box {
@@ -69,11 +80,6 @@ static box item_box(const rt_world *w, uint32_t i)
     return b;
 }
 
-typedef struct keyed {
-    double key;
-    uint32_t item;
-} keyed;
-
 static int by_key(const void *pa, const void *pb)
 {
     const keyed *a = pa, *b = pb;
@@ -98,20 +104,20 @@ static void grow(box *b, const box *o)
 
 static const box EMPTY = {{DBL_MAX, DBL_MAX, DBL_MAX}, {-DBL_MAX, -DBL_MAX, -DBL_MAX}};
 
-/* The surface area heuristic's best split of the sorted items tmp[0, count)
+/* The surface area heuristic's best split of the sorted items ord[0, count)
  * (cost in box areas times items, a box test costing one item test), at
  * *at; returns its cost. rest: scratch of count boxes. */
-static double best_split(const box *bx, const keyed *tmp, uint32_t count, box *rest, uint32_t *at)
+static double best_split(const box *bx, const keyed *ord, uint32_t count, box *rest, uint32_t *at)
 {
     box acc = EMPTY;
     for (uint32_t i = count; i-- > 1;) { /* rest[i]: the box of items i.. */
-        grow(&acc, &bx[tmp[i].item]);
+        grow(&acc, &bx[ord[i].item]);
         rest[i] = acc;
     }
     acc = EMPTY;
     double best = DBL_MAX;
     for (uint32_t i = 1; i < count; i++) {
-        grow(&acc, &bx[tmp[i - 1].item]);
+        grow(&acc, &bx[ord[i - 1].item]);
         const double c = area(&acc) * i + area(&rest[i]) * (count - i);
         if (c < best) {
             best = c;
@@ -121,11 +127,28 @@ static double best_split(const box *bx, const keyed *tmp, uint32_t count, box *r
     return best;
 }
 
+/* Axis k's order of the items [first, first + count) made the children's:
+ * those of side 1 first, each side in the order it had (a stable
+ * partition, so each child's segment stays sorted). */
+static void partition(bin *w, int k, uint32_t first, uint32_t count)
+{
+    keyed *o = w->ord[k] + first;
+    uint32_t n1 = 0, n0 = 0;
+    for (uint32_t i = 0; i < count; i++)
+        if (w->side[o[i].item])
+            o[n1++] = o[i];
+        else
+            w->scratch[n0++] = o[i];
+    memcpy(o + n1, w->scratch, n0 * sizeof *o);
+}
+
 /* Node over items [first, first + count): a leaf, or the split the surface
  * area heuristic picks among the orders of the centres on each axis (ties
- * by item, so every rank builds the same tree). An inner node's left child
- * follows it; its `first` is the right child. */
-static int build(bin *w, const box *bx, keyed *tmp, box *rest, uint32_t first, uint32_t count)
+ * by item, so every rank builds the same tree). The orders are sorted once
+ * (build_tree) and partitioned at each split, not sorted again: the same
+ * splits in O(n log n). An inner node's left child follows it; its `first`
+ * is the right child. */
+static int build(bin *w, const box *bx, box *rest, uint32_t first, uint32_t count)
 {
     const uint32_t me = w->n_nodes++;
     box b = EMPTY;
@@ -142,14 +165,8 @@ static int build(bin *w, const box *bx, keyed *tmp, box *rest, uint32_t first, u
     int axis = -1;
     uint32_t at = 0;
     for (int k = 0; k < 3; k++) {
-        for (uint32_t i = 0; i < count; i++) {
-            const uint32_t it = w->items[first + i];
-            tmp[i].key = bx[it].lo[k] + bx[it].hi[k];
-            tmp[i].item = it;
-        }
-        qsort(tmp, count, sizeof *tmp, by_key);
         uint32_t a = 0;
-        const double c = best_split(bx, tmp, count, rest, &a) + area(&b); /* the two children's boxes tested */
+        const double c = best_split(bx, w->ord[k] + first, count, rest, &a) + area(&b); /* the two children's boxes tested */
         if (c < best || (count > LEAF_ITEMS && axis < 0)) {
             best = c;
             axis = k;
@@ -158,16 +175,16 @@ static int build(bin *w, const box *bx, keyed *tmp, box *rest, uint32_t first, u
     }
     if (axis < 0)
         return (int)me;
+    const keyed *o = w->ord[axis] + first;
     for (uint32_t i = 0; i < count; i++) {
-        const uint32_t it = w->items[first + i];
-        tmp[i].key = bx[it].lo[axis] + bx[it].hi[axis];
-        tmp[i].item = it;
+        w->items[first + i] = o[i].item;
+        w->side[o[i].item] = i < at;
     }
-    qsort(tmp, count, sizeof *tmp, by_key);
-    for (uint32_t i = 0; i < count; i++)
-        w->items[first + i] = tmp[i].item;
-    build(w, bx, tmp, rest, first, at);
-    const int right = build(w, bx, tmp, rest, first + at, count - at);
+    for (int k = 0; k < 3; k++)
+        if (k != axis)
+            partition(w, k, first, count);
+    build(w, bx, rest, first, at);
+    const int right = build(w, bx, rest, first + at, count - at);
     w->nodes[me].first = (uint32_t)right;
     w->nodes[me].count = 0;
     return (int)me;
@@ -257,13 +274,21 @@ static int collapse(rt_world *w, const wnode *bn, uint32_t bid, double margin_ba
 static int build_tree(rt_world *w, const box *bx, double extent)
 {
     const uint32_t n = w->nitems;
-    bin B = {malloc(2 * (size_t)n * sizeof *B.nodes), 0, w->items};
-    keyed *tmp = malloc(n * sizeof *tmp);
+    bin B = {malloc(2 * (size_t)n * sizeof *B.nodes), 0, w->items, {NULL, NULL, NULL}, NULL, NULL};
+    for (int k = 0; k < 3; k++)
+        B.ord[k] = malloc(n * sizeof *B.ord[k]);
+    B.scratch = malloc(n * sizeof *B.scratch);
+    B.side = malloc(n);
     box *rest = malloc(n * sizeof *rest);
     w->nodes = aligned_alloc(64, 2 * (size_t)n * sizeof *w->nodes);
-    int st = B.nodes && tmp && rest && w->nodes ? RT_OK : RT_ENOMEM;
+    int st = B.nodes && B.ord[0] && B.ord[1] && B.ord[2] && B.scratch && B.side && rest && w->nodes ? RT_OK : RT_ENOMEM;
     if (!st) {
-        build(&B, bx, tmp, rest, 0, n);
+        for (int k = 0; k < 3; k++) {
+            for (uint32_t i = 0; i < n; i++)
+                B.ord[k][i] = (keyed){bx[w->items[i]].lo[k] + bx[w->items[i]].hi[k], w->items[i]};
+            qsort(B.ord[k], n, sizeof *B.ord[k], by_key);
+        }
+        build(&B, bx, rest, 0, n);
         /* ray origins are rounded to float too: a little more than that */
         if (collapse(w, B.nodes, 0, 4.0 * extent * FLT_EPSILON, 1) < 0 || n >= (1u << 31)) {
             w->n_nodes = 0;
@@ -271,7 +296,10 @@ static int build_tree(rt_world *w, const box *bx, double extent)
         }
     }
     free(B.nodes);
-    free(tmp);
+    for (int k = 0; k < 3; k++)
+        free(B.ord[k]);
+    free(B.scratch);
+    free(B.side);
     free(rest);
     return st;
 }
