@@ -95,7 +95,7 @@ static void start2(const p2 *c, uint32_t sample, path *p, double *time)
 static inline __attribute__((always_inline)) void look_ahead(const p2 *c, const path *p, vertex *v)
 {
     ahead *A = &v->ahead;
-    A->drawn = rt_sampler_peek2d(&p->smp, v->base + RT_SAMPLER2_SCATTER, &A->u2);
+    A->drawn = !c->r->no_look_ahead && rt_sampler_peek2d(&p->smp, v->base + RT_SAMPLER2_SCATTER, &A->u2);
     A->sphered = A->drawn && !c->r->lights;
     if (A->sphered)
         A->sphere = rt_warp_sphere(A->u2);

@@ -118,6 +118,10 @@ typedef struct rt_renderer {
     /* The book-2 path loop's rays have their time in [time0, time1)
      * (time0 + u (time1 - time0)): the frame's shutter (anim.h). */
     double time0, time1;
+    /* Tests only: the book-2 loop draws a vertex's scattering numbers after
+     * the walk that finds it, not ahead of it (path2.c's look_ahead): the
+     * images must be the same bits. 0 after rt_render_init. */
+    int no_look_ahead;
 } rt_renderer;
 
 /* A renderer of s's camera, its rays' time in the book's [0, 1). */

@@ -236,6 +236,39 @@ static void check_cornell(const char *name)
     rt_scene_free(&s);
 }
 
+/* The book-2 loop's numbers drawn ahead of the walk (path2.c's
+ * look_ahead) against drawn after it: scene `name` at 8 x 8, 8 spp, Sobol,
+ * with and without light sampling, the same sums to the bit. */
+static void check_look_ahead(const char *name)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 0, NULL), RT_OK);
+    for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_BRUTE; mode++) {
+        rt_accel *a;
+        CHECK_EQ_INT(rt_accel_new(&a, &s, RT_ACCEL_BVH), RT_OK);
+        const rt_job job = {8, 8, 8, 40, 5, RT_DIFFUSE_LAMBERTIAN, RT_SAMPLER_SOBOL, 1, 0, 0, 0, mode};
+        rt_renderer r;
+        CHECK_EQ_INT(rt_render_init(&r, &s, a, &job), RT_OK);
+        const size_t n = (size_t)8 * 8 * r.lay.ch;
+        int64_t *ahead = calloc(n, sizeof *ahead), *after = calloc(n, sizeof *after);
+        CHECK(ahead && after);
+        rt_render_rows(&r, 0, 8, 0, 8, ahead, 1);
+        r.no_look_ahead = 1;
+        rt_render_rows(&r, 0, 8, 0, 8, after, 1);
+        size_t differ = 0, lit = 0;
+        for (size_t i = 0; i < n; i++)
+            differ += ahead[i] != after[i], lit += ahead[i] != 0;
+        fprintf(stderr, "%s (%s): %zu of %zu sums differ with the numbers drawn after the walk (%zu not 0)\n",
+                name, MODE[mode], differ, n, lit);
+        CHECK_EQ_INT(differ, 0);
+        CHECK(lit > n / 8);
+        free(ahead);
+        free(after);
+        rt_accel_free(a);
+    }
+    rt_scene_free(&s);
+}
+
 /* rt_nee_emitted from below (the front) and above (the back) of three
  * quads facing -y: two-sided (4), one-sided (2: nothing from the back),
  * two-sided with a solid texture (1, 2, 3) over an emission of 9 (the
@@ -288,5 +321,8 @@ int main(void)
     check_furnace(1);
     check_cornell("cornell-box");
     check_cornell("cornell-smoke");
+    check_look_ahead("cornell-box");
+    check_look_ahead("cornell-smoke");
+    check_look_ahead("book3-final");
     CHECK_DONE();
 }
