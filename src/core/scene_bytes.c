@@ -535,7 +535,7 @@ uint64_t rt_scene_hash(const rt_scene *s)
     size_t n;
     if (rt_scene_serialize(s, &b, &n))
         return 0;
-    uint64_t h = rt_hash_bytes(RT_HASH_INIT, b, n);
+    const uint64_t h = rt_scene_bytes_hash(b, n);
     free(b);
     return h;
 }

@@ -166,7 +166,8 @@ static int build(bin *w, const box *bx, box *rest, uint32_t first, uint32_t coun
     uint32_t at = 0;
     for (int k = 0; k < 3; k++) {
         uint32_t a = 0;
-        const double c = best_split(bx, w->ord[k] + first, count, rest, &a) + area(&b); /* the two children's boxes tested */
+        /* the split's cost, plus the two children's boxes tested */
+        const double c = best_split(bx, w->ord[k] + first, count, rest, &a) + area(&b);
         if (c < best || (count > LEAF_ITEMS && axis < 0)) {
             best = c;
             axis = k;

@@ -6,6 +6,7 @@
 
 #include "core_internal.h"
 #include "check.h"
+#include "hash.h"
 #include "scene.h"
 #include "status.h"
 
@@ -43,6 +44,8 @@ int main(void)
     size_t len1, len2;
     CHECK_EQ_INT(rt_scene_serialize(&a, &buf1, &len1), RT_OK);
     CHECK_EQ_INT(rt_scene_deserialize(&c, buf1, len1), RT_OK);
+    /* the bytes' hash from their checksum: the FNV-1a of all of them */
+    CHECK_EQ_U64(rt_scene_bytes_hash(buf1, len1), rt_hash_bytes(RT_HASH_INIT, buf1, len1));
     CHECK_EQ_INT(rt_scene_serialize(&c, &buf2, &len2), RT_OK);
     CHECK_EQ_INT(len1, len2);
     CHECK(len1 == len2 && memcmp(buf1, buf2, len1) == 0);
