@@ -21,6 +21,7 @@ typedef struct light {
     double emit;          /* luminance of its emission */
     uint32_t material;
     int one_sided;        /* quad: emits from its front face only (the side n points to) */
+    rt_vec3 bc;           /* its centre (a moving sphere's halfway) */
 } light;
 
 struct rt_lights {
@@ -52,7 +53,8 @@ static double exitance(const rt_scene *s, uint32_t material)
 
 static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1, double radius)
 {
-    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0, 0};
+    light L = {(uint64_t)kind << 32 | index, c0, c1, rt_v3(fabs(radius), 0, 0), rt_v3(0, 0, 0), 0, 0, 0, 0, 0,
+               {0, 0, 0}};
     L.area = 4.0 * PI * radius * radius;
     return L;
 }
@@ -60,7 +62,8 @@ static light sphere_light(uint32_t kind, uint32_t index, rt_vec3 c0, rt_vec3 c1,
 static light quad_light(uint32_t index, const rt_quad *q)
 {
     const rt_vec3 n = rt_v3_cross(q->u, q->v);
-    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0, 0};
+    light L = {(uint64_t)RT_SHAPE_QUAD << 32 | index, q->q, q->u, q->v, rt_v3_unit(n), rt_v3_len(n), 0, 0, 0, 0,
+               {0, 0, 0}};
     return L;
 }
 
@@ -73,6 +76,8 @@ static void add(light *items, uint32_t *n, light L, const rt_scene *s, uint32_t 
         L.emit = radiance(s, material);
         L.material = material;
         L.one_sided = !(s->materials[material].flags & RT_MAT_TWO_SIDED);
+        L.bc = (uint32_t)(L.key >> 32) == RT_SHAPE_QUAD ? rt_v3_add(L.a, rt_v3_scale(rt_v3_add(L.b, L.c), 0.5))
+                                                        : rt_v3_scale(rt_v3_add(L.a, L.b), 0.5);
         items[(*n)++] = L;
     }
 }
@@ -285,8 +290,8 @@ int rt_lights_sample(const rt_lights *l, rt_vec3 p, double time, double u, uint6
     return cone_dir(L, p, time, s, (uint32_t)u2, &out->dir, &out->pdf);
 }
 
-double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
-                     double t)
+/* The slot of light (kind, index) in the list (sorted by key), or l->n. */
+static uint32_t slot_of(const rt_lights *l, uint32_t kind, uint32_t index)
 {
     const uint64_t key = (uint64_t)kind << 32 | index;
     uint32_t lo = 0, hi = l->n;
@@ -297,9 +302,20 @@ double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, ui
         else
             hi = mid;
     }
-    if (lo == l->n || l->items[lo].key != key)
-        return 0.0;
-    return rt_lights_pdf_of(l, lo, p, time, dir, t);
+    return lo < l->n && l->items[lo].key == key ? lo : l->n;
+}
+
+double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, uint32_t kind, uint32_t index,
+                     double t)
+{
+    const uint32_t lo = slot_of(l, kind, index);
+    return lo < l->n ? rt_lights_pdf_of(l, lo, p, time, dir, t) : 0.0;
+}
+
+double rt_lights_area_pdf(const rt_lights *l, uint32_t kind, uint32_t index)
+{
+    const uint32_t lo = slot_of(l, kind, index);
+    return lo < l->n ? l->items[lo].prob / l->items[lo].area : 0.0;
 }
 
 double rt_lights_pdf_of(const rt_lights *l, uint32_t slot, rt_vec3 p, double time, rt_vec3 dir, double t)
@@ -332,4 +348,25 @@ double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 
         sum += L->prob / (2.0 * PI * cone_omc(r2, d2)); /* cone()'s, without its axis */
     }
     return sum;
+}
+
+uint32_t rt_lights_target_sphere(const rt_lights *l, uint32_t k) { return (uint32_t)l->targets[k].key; }
+
+int rt_lights_target_between(const rt_lights *l, rt_vec3 x, double reach, uint32_t *target)
+{
+    for (uint32_t k = 0; k < l->nt; k++) {
+        const rt_vec3 cx = rt_v3_sub(l->targets[k].a, x);
+        const double rr = reach * l->targets[k].c.x * reach * l->targets[k].c.x, c2 = rt_v3_len2(cx);
+        for (uint32_t j = 0; j < l->n; j++) {
+            const rt_vec3 lx = rt_v3_sub(l->items[j].bc, x);
+            const double d = rt_v3_dot(cx, lx), l2 = rt_v3_len2(lx);
+            /* the centre's foot on the segment, within reach of the line: d^2 / l2 its squared
+             * distance along the line, c2 - d^2 / l2 across it (times l2, no division) */
+            if (d > 0.0 && d < l2 && c2 * l2 - d * d < rr * l2) {
+                *target = k;
+                return 1;
+            }
+        }
+    }
+    return 0;
 }

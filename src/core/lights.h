@@ -108,4 +108,16 @@ int rt_lights_target_sample(const rt_lights *l, rt_vec3 p, double time, uint32_t
  * from p: a sum over the targets whose sphere the line meets. */
 double rt_lights_target_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir);
 
+/* Target k's shape: the static sphere of that index (RT_SHAPE_SPHERE). */
+uint32_t rt_lights_target_sphere(const rt_lights *l, uint32_t k);
+
+/* The density per unit area, the light's choice included, with which
+ * rt_lights_point gives a point of light (kind, index); 0 if it is none. */
+double rt_lights_area_pdf(const rt_lights *l, uint32_t kind, uint32_t index);
+
+/* Whether x lies in a target sphere's shadow, where the light it focuses
+ * falls: its centre within reach times its radius of the segment from x
+ * to a light's centre. 1 with *target, the first such; else 0. */
+int rt_lights_target_between(const rt_lights *l, rt_vec3 x, double reach, uint32_t *target);
+
 #endif

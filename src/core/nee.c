@@ -118,6 +118,14 @@ double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, u
     return c / (PI * *pdf);
 }
 
+double rt_nee_scatter_pdf(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, rt_vec3 dir)
+{
+    const double c = rt_v3_dot(dir, n) / rt_v3_len(dir);
+    if (!(c > 0.0))
+        return 0.0;
+    return RT_NEE_AIM_SLOTS && r->light_targets ? scatter_pdf(r, p, dir, time, c / PI) : c / PI;
+}
+
 static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 /* The shadow-ray roulette's decision for a shadow ray whose light, were

@@ -61,6 +61,10 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_
 double rt_nee_scatter(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, uint64_t u, rt_vec3 *dir,
                       double *pdf);
 
+/* The density with which rt_nee_scatter gives direction dir (any length)
+ * from p (normal n): 0 below the surface. */
+double rt_nee_scatter_pdf(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double time, rt_vec3 dir);
+
 /* The weight of the emission a BSDF-sampled ray (from its origin, where
  * the vertex's BSDF density of its direction was pdf_bsdf) finds at hit h:
  * 1 after a specular vertex (pdf_bsdf 0); 0 when pdf_bsdf is negative, a

@@ -8,6 +8,7 @@
 #include "path2.h"
 
 #include "detmath.h"
+#include "caustic.h"
 #include "nee.h"
 #include "path.h"
 #include "texture.h"
@@ -36,6 +37,7 @@ typedef struct p2 {
     uint32_t stride; /* sampler dimensions per bounce (sampler.h) */
     int cosine;      /* lambertian surfaces scatter by material.c's cosine rule (no lights to sample) */
     int inscatter;   /* lights to sample and media: segments' direct in-scattering (inscatter) */
+    int caustic;     /* lights to sample and glass spheres, no media: caustic2 */
 } p2;
 
 /* The scattering's numbers of the vertex a segment ends at, drawn before
@@ -62,6 +64,8 @@ typedef struct vertex {
     double time, pdf;
     uint64_t *segs;
     ahead ahead;
+    uint32_t cst, ctarget; /* caustic chain state (surface2), and its target */
+    rt_vec3 cx, cn, cw;    /* the vertex that estimated it: its point, normal, scattered direction */
 } vertex;
 
 /* A new path for sample `sample`: its camera ray and its time. */
@@ -277,6 +281,28 @@ static const rt_nee_bsdf ISOTROPIC = {{0, 0, 0}, {0, 0, 0}, 0.0};
 
 static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
 
+/* A lambertian vertex's light through a glass sphere (caustic.h), where
+ * the gate says so and the chain's emitter (three segments on) is within
+ * the depth limit; then a path it scatters through that sphere into an
+ * emitter counts nothing (surface2's state). */
+static inline void caustic2(const p2 *c, path *p, vertex *v, const rt_surface *rec, rt_vec3 albedo, rt_vec3 dir)
+{
+    uint32_t target;
+    if (!(v->depth + 3 < c->r->job.max_depth) || !rt_caustic_gate(c->r, rec->p, &target))
+        return;
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_CAUSTIC);
+    const double u = rt_sampler_get1d(&p->smp);
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_CAUSTIC + 2);
+    const uint64_t u2 = rt_sampler_get2d(&p->smp);
+    p->col = rt_v3_add(p->col, rt_caustic_direct(c->r, rec->p, rec->normal, rt_v3_mul(p->thr, albedo), v->time,
+                                                 target, u, u2, v->segs));
+    v->cst = 1;
+    v->ctarget = target;
+    v->cx = rec->p;
+    v->cn = rec->normal;
+    v->cw = dir;
+}
+
 static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_nee_bsdf b, rt_vec3 albedo)
 {
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
@@ -383,13 +409,18 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
 {
     const double time = vx->time;
     const rt_material *m = &c->s->materials[h->material];
+    const uint32_t st = vx->cst; /* 3: a caustic chain the vertex before estimated (caustic.h) */
+    vx->cst = 0;
     rt_surface rec;
     double u, v;
     rt_world_surface(c->w, h, &p->ray, time, m->texture != 0, &rec, &u, &v);
     const rt_vec3 col = rt_texture_albedo(c->s, c->pn, m, u, v, rec.p);
     if (m->kind == RT_MAT_EMITTER) {
         if (rec.front_face || (m->flags & RT_MAT_TWO_SIDED)) {
-            const double w = c->r->lights ? rt_nee_weight(c->r, &p->ray, vx->pdf, h, time) : 1.0;
+            const double w = st == 3 ? rt_caustic_weight(c->r, vx->cx, vx->cn, vx->cw, vx->ctarget, h, rec.p,
+                                                         rec.normal, time)
+                             : c->r->lights ? rt_nee_weight(c->r, &p->ray, vx->pdf, h, time)
+                                            : 1.0;
             p->col = rt_v3_add(p->col, rt_v3_scale(rt_v3_mul(p->thr, col), w));
         }
         /* the denoiser's albedo of a light: its emission clamped to [0, 1] */
@@ -422,6 +453,8 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
                 direct2(c, p, vx, rec.p, (rt_nee_bsdf){.n = rec.normal}, col);
             next.orig = rec.p;
             const double f = rt_nee_scatter(c->r, rec.p, rec.normal, time, scatter_2d(p, vx), &next.dir, &vx->pdf);
+            if (c->caustic)
+                caustic2(c, p, vx, &rec, col, next.dir);
             if (f == 0.0)
                 return 0;
             att = rt_v3_scale(col, f);
@@ -434,6 +467,10 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
                 direct2(c, p, vx, rec.p, (rt_nee_bsdf){rec.normal, mirror, m->fuzz}, m->albedo);
             if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
                 return 0;
+            if ((st == 1 || st == 2) && m->kind == RT_MAT_DIELECTRIC && h->kind == RT_SHAPE_SPHERE &&
+                h->index == rt_lights_target_sphere(c->r->lights, vx->ctarget) &&
+                rt_v3_dot(next.dir, rec.normal) < 0.0) /* refracted through the target sphere */
+                vx->cst = st + 1;
             if (m->kind == RT_MAT_LAMBERTIAN)
                 att = col;
             if (fuzzy)
@@ -450,7 +487,7 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
 {
     const rt_renderer *r = c->r;
     uint64_t segs = 0;
-    vertex v = {0, 0, time, 0.0, &segs, {0, 0, 0, {0, 0, 0}}};
+    vertex v = {0, 0, time, 0.0, &segs, {0, 0, 0, {0, 0, 0}}, 0, 0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (uint32_t depth = 0; depth < r->job.max_depth; depth++) {
         segs++;
         v.depth = depth;
@@ -469,6 +506,7 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
         const int forced = c->inscatter && inscatter(c, p, &v, &S);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_SCATTER);
         if (in_medium) {
+            v.cst = 0;
             scatter_medium(c, p, &v, k, tm, forced);
         } else if (!found) {
             miss2(c, p);
@@ -512,7 +550,9 @@ static p2 context(const rt_renderer *r, uint32_t x, uint32_t y, int aovs)
             .pc = pixel_start(r, x, y, pixel_key(r, x, y), aovs),
             .stride = !r->lights              ? RT_SAMPLER2_BOUNCE_DIMS
                       : r->scene->media.media.n ? RT_SAMPLER2_LIT_MEDIA_BOUNCE_DIMS
+                      : r->light_targets        ? RT_SAMPLER2_LIT_CAUSTIC_BOUNCE_DIMS
                                                 : RT_SAMPLER2_LIT_BOUNCE_DIMS,
+            .caustic = r->lights && r->light_targets && !r->scene->media.media.n && !r->no_caustic,
             .cosine = !r->lights && r->job.diffuse == RT_DIFFUSE_LAMBERTIAN,
             .inscatter = r->lights && r->scene->media.media.n};
     return c;

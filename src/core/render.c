@@ -33,6 +33,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->lights = job->light != RT_LIGHT_BRUTE && job->diffuse == RT_DIFFUSE_LAMBERTIAN ? rt_accel_lights(a) : NULL;
     r->light_targets = rt_lights_target_count(r->lights);
     r->no_look_ahead = 0;
+    r->no_caustic = 0;
     return rt_render_frame(r, &s->camera, 0.0, 1.0);
 }
 

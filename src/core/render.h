@@ -42,8 +42,12 @@
  * their thin media scatter along a segment from the camera or a specular
  * vertex (path2.c's inscatter; 14 dimensions a bounce), and a fuzzy
  * metal vertex of a lit scene samples the lights (nee.h, with its
- * scattering's density); other scenes keep version 7's bytes. */
-#define RT_RENDER_SAMPLING 8u
+ * scattering's density); other scenes keep version 7's bytes. 9: lit
+ * scenes with glass spheres and no media (book3-final) estimate the light
+ * the spheres focus onto a lambertian vertex in their shadow through them
+ * (caustic.h; 14 dimensions a bounce); other scenes keep version 8's
+ * bytes. */
+#define RT_RENDER_SAMPLING 9u
 
 /* Russian roulette starts after RT_RENDER_ROULETTE_DEPTH bounces and cuts
  * only paths whose throughput has fallen below RT_RENDER_ROULETTE_KEEP in
@@ -122,6 +126,7 @@ typedef struct rt_renderer {
      * the walk that finds it, not ahead of it (path2.c's look_ahead): the
      * images must be the same bits. 0 after rt_render_init. */
     int no_look_ahead;
+    int no_caustic; /* tests, experiments: no next-event estimation through glass spheres (caustic.h) */
 } rt_renderer;
 
 /* A renderer of s's camera, its rays' time in the book's [0, 1). */

@@ -124,6 +124,9 @@ static inline int rt_sampler_parse(const char *name)
 /* and in lit scenes with media, 14 (path2.c's in-scattering along a segment): */
 #define RT_SAMPLER2_LIT_MEDIA_BOUNCE_DIMS 14u
 #define RT_SAMPLER2_INSCATTER 10u /* 1D the distance, then 1D (11) which light, 2D (12-13) the point */
+/* and in lit scenes with glass spheres (caustic.h), 14: */
+#define RT_SAMPLER2_LIT_CAUSTIC_BOUNCE_DIMS 14u
+#define RT_SAMPLER2_CAUSTIC 10u /* 1D which light, then 2D (12-13) the point on it */
 
 /* ---- the Sobol pieces ----------------------------------------------------- */
 

@@ -5,7 +5,10 @@
  * plane under that rectangle by the three;
  * a white furnace whose walls, a sphere and a moving sphere emit, with a
  * white medium inside (every pixel's radiance is the walls'), also with
- * a glass sphere that the diffuse vertices aim at (nee.h); the
+ * a glass sphere that the diffuse vertices aim at (nee.h), and without
+ * the medium, where they estimate the light through it (caustic.h); the
+ * light book3-final's glass sphere focuses on its floor, through the
+ * sphere and by the scattered paths alone; the
  * cornell-box's and cornell-smoke's channel means with and without light
  * sampling. Each
  * within four standard errors, from the random sampler's independent
@@ -153,23 +156,24 @@ static void check_metal(double fuzz)
  * radiance 1 everywhere (up to paths longer than the depth limit). glass:
  * and a glass sphere (lossless), a sampling target of the white surfaces'
  * scattering (their mixture's density must be right for the mean to be 1). */
-static void check_furnace(int glass)
+static void check_furnace(int glass, int fog)
 {
     rt_scene s;
     rt_scene_init(&s);
-    uint32_t white, wall, glow, fog;
+    uint32_t white, wall, glow, fogm;
     rt_material m = rt_scene_lambertian(rt_v3(1, 1, 1)), e = rt_scene_emitter(rt_v3(1, 1, 1), 1),
                 g = rt_scene_emitter(rt_v3(1, 1, 1), 0), f = rt_scene_isotropic(rt_v3(1, 1, 1));
     CHECK_EQ_INT(rt_scene_add_material(&s, &m, &white), RT_OK);
     CHECK_EQ_INT(rt_scene_add_material(&s, &e, &wall), RT_OK);
     CHECK_EQ_INT(rt_scene_add_material(&s, &g, &glow), RT_OK);
-    CHECK_EQ_INT(rt_scene_add_material(&s, &f, &fog), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &f, &fogm), RT_OK);
     CHECK_EQ_INT(rt_scene_add_box(&s, rt_v3(-5, -5, -5), rt_v3(5, 5, 5), wall, NULL), RT_OK);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 0), 1, white), RT_OK);
     CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(2, 0.5, 0), 0.5, glow), RT_OK);
     CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(-2, 0, 0), rt_v3(-2, 1, 0), 0.5, glow, NULL), RT_OK);
     CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-4, -2, -4), rt_v3(8, 0, 0), rt_v3(0, 0, 8), white, NULL), RT_OK);
-    CHECK_EQ_INT(rt_scene_add_medium_sphere(&s, rt_v3(0, 0, 0), 3, 0.3, fog), RT_OK);
+    if (fog)
+        CHECK_EQ_INT(rt_scene_add_medium_sphere(&s, rt_v3(0, 0, 0), 3, 0.3, fogm), RT_OK);
     if (glass) {
         uint32_t clear;
         rt_material d = rt_scene_dielectric(1.5);
@@ -204,7 +208,8 @@ static void check_furnace(int glass)
     for (uint32_t y = 0; y < 8; y++)
         for (uint32_t x = 0; x < 8; x++)
             add_pixel(&st, &r, x, y, 4000);
-    fprintf(stderr, "furnace with emitters and fog%s: %.5f, want 1 (se %.5f)\n", glass ? " and glass" : "", mean(&st, 1),
+    fprintf(stderr, "furnace with emitters%s%s: %.5f, want 1 (se %.5f)\n", fog ? " and fog" : "",
+            glass ? (fog ? " and glass" : " and glass, light through it estimated (caustic.h)") : "", mean(&st, 1),
             se(&st, 1));
     CHECK_NEAR(mean(&st, 1), 1.0, 4 * se(&st, 1));
     rt_accel_free(a);
@@ -231,6 +236,35 @@ static void check_cornell(const char *name)
         const double err = sqrt(se(&st[0], i) * se(&st[0], i) + se(&st[1], i) * se(&st[1], i));
         fprintf(stderr, "%s channel %d: %.5f with light sampling, %.5f without (se %.5f)\n", name, i,
                 mean(&st[0], i), mean(&st[1], i), err);
+        CHECK_NEAR(mean(&st[0], i), mean(&st[1], i), 4 * err);
+    }
+    rt_scene_free(&s);
+}
+
+/* book3-final's caustic, the light its glass sphere focuses onto the
+ * floor in its own shadow: pixels of the spot (128 x 128: x 72 to 93, y
+ * 110 to 118) at depth 4 (the camera's ray, the floor, the two
+ * refractions and the light), with the light through the sphere estimated
+ * at the floor (caustic.h) and found by the scattered paths alone
+ * (no_caustic): the same means within four standard errors. */
+static void check_caustic(void)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, "book3-final", 42, 0, NULL), RT_OK);
+    stat st[2] = {{{0}, {0}, 0}, {{0}, {0}, 0}};
+    for (int off = 0; off <= 1; off++) {
+        rt_accel *a;
+        rt_renderer r = renderer(&s, &a, 128, 128, 4, RT_LIGHT_MIS, 0);
+        r.no_caustic = off;
+        for (uint32_t y = 110; y <= 118; y += 4)
+            for (uint32_t x = 72; x <= 93; x += 3)
+                add_pixel(&st[off], &r, x, y, off ? 65536 : 8192);
+        rt_accel_free(a);
+    }
+    for (int i = 0; i < 3; i++) {
+        const double err = sqrt(se(&st[0], i) * se(&st[0], i) + se(&st[1], i) * se(&st[1], i));
+        fprintf(stderr, "book3-final's caustic, channel %d: %.5f through the sphere (se %.5f), %.5f by the scattered "
+                        "paths (se %.5f)\n", i, mean(&st[0], i), se(&st[0], i), mean(&st[1], i), se(&st[1], i));
         CHECK_NEAR(mean(&st[0], i), mean(&st[1], i), 4 * err);
     }
     rt_scene_free(&s);
@@ -317,8 +351,10 @@ int main(void)
     }
     check_metal(0.3);
     check_metal(1.0);
-    check_furnace(0);
-    check_furnace(1);
+    check_furnace(0, 1);
+    check_furnace(1, 1);
+    check_furnace(1, 0);
+    check_caustic();
     check_cornell("cornell-box");
     check_cornell("cornell-smoke");
     check_look_ahead("cornell-box");
