@@ -55,6 +55,11 @@ typedef struct ahead {
     rt_vec3 sphere;
 } ahead;
 
+typedef struct cvertex { /* a vertex that estimated a caustic (caustic2) */
+    uint32_t target;
+    rt_vec3 x, n, w; /* point, normal, scattered direction */
+} cvertex;
+
 /* The vertex a path is at: the bounce's depth and first dimension, the
  * path's time, the BSDF density of the ray that left the vertex before
  * (0: specular, or the camera's), the segment count, and its scattering's
@@ -64,8 +69,8 @@ typedef struct vertex {
     double time, pdf;
     uint64_t *segs;
     ahead ahead;
-    uint32_t cst, ctarget; /* caustic chain state (surface2), and its target */
-    rt_vec3 cx, cn, cw;    /* the vertex that estimated it: its point, normal, scattered direction */
+    uint32_t cst; /* caustic chain state (surface2) */
+    cvertex cv;
 } vertex;
 
 /* A new path for sample `sample`: its camera ray and its time. */
@@ -271,43 +276,43 @@ static void miss2(const p2 *c, path *p)
 
 #define PI 3.14159265358979323846
 
-/* The light a diffuse vertex at `at` (normal n, zero for isotropic) of
- * albedo gets from a light it samples; called when there are lights to
- * sample and the next segment is within the depth limit (as the emitter a
- * scattered ray could hit). Its numbers: the bounce's light dimensions;
- * the scattering's follow. Inline: a wrapper of its own out of line cost a
- * second call a vertex (nee.c's work stays out of the loop). */
 static const rt_nee_bsdf ISOTROPIC = {{0, 0, 0}, {0, 0, 0}, 0.0};
-
 static int lit(const p2 *c, const vertex *v) { return c->r->lights && v->depth + 1 < c->r->job.max_depth; }
 
-/* A lambertian vertex's light through a glass sphere (caustic.h), where
- * the gate says so and the chain's emitter (three segments on) is within
- * the depth limit; then a path it scatters through that sphere into an
- * emitter counts nothing (surface2's state). */
-static inline void caustic2(const p2 *c, path *p, vertex *v, const rt_surface *rec, rt_vec3 albedo, rt_vec3 dir)
+/* The light a diffuse vertex at `at` (normal n, zero for isotropic) of
+ * albedo gets from a light it samples, when lit (the next segment within the
+ * depth limit); by the bounce's light dimensions. Inline: out of line cost
+ * a second call a vertex. */
+static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_nee_bsdf b, rt_vec3 albedo)
+{
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
+    p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, &b, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
+    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_SCATTER);
+}
+
+/* The MIS weight of an emitter found through the sphere whose light the
+ * vertex before estimated (caustic2); both out of line: the loop keeps its registers. */
+static __attribute__((noinline)) double caustic_weight2(const p2 *c, const vertex *v, const rt_whit *h,
+                                                        const rt_surface *rec)
+{
+    return rt_caustic_weight(c->r, v->cv.x, v->cv.n, v->cv.w, v->cv.target, h, rec->p, rec->normal, v->time);
+}
+
+/* A lambertian vertex's light through a glass sphere (caustic.h), where the
+ * gate says so and the chain's emitter (three segments on) is within depth. */
+static __attribute__((noinline)) void caustic2(const p2 *c, path *p, vertex *v, const rt_surface *rec,
+                                               rt_vec3 albedo, rt_vec3 dir)
 {
     uint32_t target;
     if (!(v->depth + 3 < c->r->job.max_depth) || !rt_caustic_gate(c->r, rec->p, &target))
         return;
     rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_CAUSTIC);
     const double u = rt_sampler_get1d(&p->smp);
-    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_CAUSTIC + 2);
-    const uint64_t u2 = rt_sampler_get2d(&p->smp);
+    const uint64_t u2 = rt_sampler_get2d(&p->smp); /* the pair at +12 */
     p->col = rt_v3_add(p->col, rt_caustic_direct(c->r, rec->p, rec->normal, rt_v3_mul(p->thr, albedo), v->time,
                                                  target, u, u2, v->segs));
     v->cst = 1;
-    v->ctarget = target;
-    v->cx = rec->p;
-    v->cn = rec->normal;
-    v->cw = dir;
-}
-
-static inline void direct2(const p2 *c, path *p, const vertex *v, rt_vec3 at, rt_nee_bsdf b, rt_vec3 albedo)
-{
-    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_LIGHT);
-    p->col = rt_v3_add(p->col, rt_nee_direct(c->r, at, &b, rt_v3_mul(p->thr, albedo), v->time, &p->smp, v->segs));
-    rt_sampler_seek(&p->smp, v->base + RT_SAMPLER2_SCATTER);
+    v->cv = (cvertex){target, rec->p, rec->normal, dir};
 }
 
 /* Scattering in medium k at distance t: the phase function's direction
@@ -409,16 +414,14 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
 {
     const double time = vx->time;
     const rt_material *m = &c->s->materials[h->material];
-    const uint32_t st = vx->cst; /* 3: a caustic chain the vertex before estimated (caustic.h) */
-    vx->cst = 0;
     rt_surface rec;
     double u, v;
     rt_world_surface(c->w, h, &p->ray, time, m->texture != 0, &rec, &u, &v);
     const rt_vec3 col = rt_texture_albedo(c->s, c->pn, m, u, v, rec.p);
     if (m->kind == RT_MAT_EMITTER) {
         if (rec.front_face || (m->flags & RT_MAT_TWO_SIDED)) {
-            const double w = st == 3 ? rt_caustic_weight(c->r, vx->cx, vx->cn, vx->cw, vx->ctarget, h, rec.p,
-                                                         rec.normal, time)
+            /* cst 3: a caustic chain the vertex before estimated (caustic.h) */
+            const double w = vx->cst == 3 ? caustic_weight2(c, vx, h, &rec)
                              : c->r->lights ? rt_nee_weight(c->r, &p->ray, vx->pdf, h, time)
                                             : 1.0;
             p->col = rt_v3_add(p->col, rt_v3_scale(rt_v3_mul(p->thr, col), w));
@@ -438,6 +441,8 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
         p->ray = (rt_ray){rec.p, rt_warp_lambert_of(scatter_sphere(p, vx), rec.normal)};
         return 1;
     }
+    const uint32_t st = vx->cst; /* the caustic chain's state (caustic2): none in brute force, so read after it */
+    vx->cst = 0;
     rt_vec3 att;
     rt_ray next;
     if (m->kind == RT_MAT_ISOTROPIC) { /* a surface of isotropic material scatters as a medium does */
@@ -468,7 +473,7 @@ static int surface2(const p2 *c, path *p, const rt_whit *h, vertex *vx)
             if (!rt_material_scatter(m, &p->ray, &rec, c->r->job.diffuse, &p->smp, &att, &next))
                 return 0;
             if ((st == 1 || st == 2) && m->kind == RT_MAT_DIELECTRIC && h->kind == RT_SHAPE_SPHERE &&
-                h->index == rt_lights_target_sphere(c->r->lights, vx->ctarget) &&
+                h->index == rt_lights_target_sphere(c->r->lights, vx->cv.target) &&
                 rt_v3_dot(next.dir, rec.normal) < 0.0) /* refracted through the target sphere */
                 vx->cst = st + 1;
             if (m->kind == RT_MAT_LAMBERTIAN)
@@ -487,7 +492,7 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
 {
     const rt_renderer *r = c->r;
     uint64_t segs = 0;
-    vertex v = {0, 0, time, 0.0, &segs, {0, 0, 0, {0, 0, 0}}, 0, 0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    vertex v = {0, 0, time, 0.0, &segs, {0, 0, 0, {0, 0, 0}}, 0, {0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
     for (uint32_t depth = 0; depth < r->job.max_depth; depth++) {
         segs++;
         v.depth = depth;
