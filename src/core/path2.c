@@ -41,14 +41,10 @@ typedef struct p2 {
 } p2;
 
 /* The scattering's numbers of the vertex a segment ends at, drawn before
- * the walk that finds the vertex: its 2D number (the bounce's
- * +RT_SAMPLER2_SCATTER; Sobol's depend on the dimension alone) and, in
- * brute force, its direction on the unit sphere (what lambertian and
- * isotropic vertices turn it into). Neither depends on the hit, so the
- * processor works out the sampler's hashes and tables, the square root
- * and the sine and cosine while it walks, where after the walk they were
- * a chain of latency the next walk waited for: cornell-box's brute-force
- * render 1.2x as fast. The same numbers: the same bits. */
+ * the walk that finds it: its 2D number (+RT_SAMPLER2_SCATTER) and, in
+ * brute force, its unit-sphere direction. Neither depends on the hit, so
+ * the processor works them out while it walks instead of after, in the
+ * next walk's chain: cornell-box's brute force 1.2x as fast, same bits. */
 typedef struct ahead {
     int drawn, sphered; /* u2 is the 2D number; sphere its direction */
     uint64_t u2;
