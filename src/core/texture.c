@@ -13,9 +13,13 @@ void rt_perlin_init(rt_perlin *p, uint64_t seed)
     rt_rng r = rt_rng_for_stream(seed, RT_STREAM_PERLIN);
     for (int i = 0; i < RT_PERLIN_POINTS; i++) {
         rt_vec3 v;
-        do /* a direction: uniform in the cube, not too close to 0 */
-            v = rt_v3(rt_rng_range(&r, -1, 1), rt_rng_range(&r, -1, 1), rt_rng_range(&r, -1, 1));
-        while (!(rt_v3_len2(v) > 1e-6));
+        do { /* a direction: uniform in the cube, not too close to 0; z, y, x drawn in turn (the order
+              * GCC's builds drew them in when the three were arguments of one call, whose order C
+              * leaves open: clang's drew x first, other tables, other images) */
+            v.z = rt_rng_range(&r, -1, 1);
+            v.y = rt_rng_range(&r, -1, 1);
+            v.x = rt_rng_range(&r, -1, 1);
+        } while (!(rt_v3_len2(v) > 1e-6));
         p->vec[i] = rt_v3_unit(v);
     }
     for (int a = 0; a < 3; a++) { /* Fisher-Yates, integer only */

@@ -132,5 +132,13 @@ int main(void)
         }
         rt_scene_free(&s);
     }
+    /* bouncing-spheres: the first small sphere's centre is the scene
+     * stream's second and third numbers as z, then x, whatever the compiler
+     * (scenes_book2.c: the order of a call's arguments is open in C) */
+    CHECK_EQ_INT(rt_scene_build_named(&s, "bouncing-spheres", 42, 11, NULL), RT_OK);
+    rt_rng sr = rt_rng_for_stream(42, RT_STREAM_SCENE);
+    const double choose = rt_rng_double(&sr), cz = -11 + 0.9 * rt_rng_double(&sr), cx = -11 + 0.9 * rt_rng_double(&sr);
+    check_vec(choose < 0.8 ? s.shapes.movers.items[0].center0 : s.spheres[1].center, cx, 0.2, cz);
+    rt_scene_free(&s);
     CHECK_DONE();
 }
