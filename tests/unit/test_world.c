@@ -425,20 +425,16 @@ static void check_textures(void)
     rt_perlin_init(&p3, 2);
     CHECK(memcmp(&p1, &p2, sizeof p1) == 0);
     CHECK(memcmp(&p1, &p3, sizeof p1) != 0);
-    /* each gradient is the Perlin stream's next three numbers as z, y, x,
-     * in that order whatever the compiler (C leaves the order of a call's
-     * arguments open: clang's build once drew x first) */
+    /* the gradients: the Perlin stream's numbers as z, y, x in turn, whatever the compiler (texture.c) */
     rt_rng pr = rt_rng_for_stream(1, RT_STREAM_PERLIN);
     int same = 0;
     for (int i = 0; i < RT_PERLIN_POINTS; i++) {
         rt_vec3 g;
-        do {
-            g.z = rt_rng_range(&pr, -1, 1);
-            g.y = rt_rng_range(&pr, -1, 1);
-            g.x = rt_rng_range(&pr, -1, 1);
-        } while (!(rt_v3_len2(g) > 1e-6));
-        g = rt_v3_unit(g);
-        same += g.x == p1.vec[i].x && g.y == p1.vec[i].y && g.z == p1.vec[i].z;
+        do
+            g.z = rt_rng_range(&pr, -1, 1), g.y = rt_rng_range(&pr, -1, 1), g.x = rt_rng_range(&pr, -1, 1);
+        while (!(rt_v3_len2(g) > 1e-6));
+        const rt_vec3 u = rt_v3_unit(g);
+        same += u.x == p1.vec[i].x && u.y == p1.vec[i].y && u.z == p1.vec[i].z;
     }
     CHECK_EQ_INT(same, RT_PERLIN_POINTS);
     /* cells of 0.5: (0.2, 0.2, 0.2) is cell (0, 0, 0), even; (0.7, 0.2, 0.2) odd; (-0.2, 0.2, 0.2) odd */
