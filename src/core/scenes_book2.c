@@ -88,7 +88,7 @@ static int bouncing_spheres(rt_scene *s, uint64_t seed)
     for (int a = -11; a < 11 && !st; a++)
         for (int b = -11; b < 11 && !st; b++) {
             const double choose = rt_rng_double(&rng);
-            const double cz = b + 0.9 * rt_rng_double(&rng); /* z, then x (texture.c's rt_perlin_init says why) */
+            const double cz = b + 0.9 * rt_rng_double(&rng); /* z, then x: docs/DEVELOPING.md */
             const rt_vec3 c = rt_v3(a + 0.9 * rt_rng_double(&rng), 0.2, cz);
             if (!(rt_v3_len(rt_v3_sub(c, rt_v3(4, 0.2, 0))) > 0.9))
                 continue;
