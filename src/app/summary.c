@@ -229,6 +229,8 @@ static void print_intersector(const rt_options *o, const rt_run_setup *s, const 
     const char *box_test = rt_accel_box_test(s->accel);
     printf("intersector:   %s (%s%s", rt_accel_name(o->accel), box_test ? box_test : "",
            box_test ? " box test, " : "");
+    if (rt_accel_flat_quads(s->accel))
+        printf("avx-512 flat test of %u quads, ", rt_accel_flat_quads(s->accel));
     if (s->renderer.bvh_avx)
         printf("packets of %d rays, ", RT_RENDER_PACKET);
     if (l->built)

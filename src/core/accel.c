@@ -178,11 +178,18 @@ const struct rt_world *rt_accel_world(const rt_accel *a) { return a->world; }
 
 const struct rt_lights *rt_accel_lights(const rt_accel *a) { return a->lights; }
 
+uint32_t rt_accel_flat_quads(const rt_accel *a)
+{
+    return a->kind == RT_ACCEL_BVH && a->world ? rt_world_flat_quads(a->world) : 0;
+}
+
 const char *rt_accel_box_test(const rt_accel *a)
 {
     const char *baseline = RT_BVH_HAVE_SSE2 ? "sse2" : "portable";
     switch (a->kind) {
     case RT_ACCEL_BVH:
+        if (!a->bvh && rt_accel_flat_quads(a))
+            return NULL; /* the flat test: no boxes */
         if (!a->bvh) /* a book-2 scene: the world's tree */
             return a->world && rt_world_uses_avx(a->world) ? "avx" : baseline;
         return rt_bvh_uses_avx(a->bvh) ? "avx" : baseline;

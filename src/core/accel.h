@@ -43,8 +43,12 @@ int rt_accel_closest(const rt_accel *a, const rt_ray *ray, double tmin, double t
 const char *rt_accel_name(rt_accel_kind kind);
 int rt_accel_parse(const char *name);
 /* The box test our BVH (or, for a book-2 scene, the world's tree) runs in
- * a ("avx", "sse2" or "portable"), NULL for the other intersectors. */
+ * a ("avx", "sse2" or "portable"), NULL for the other intersectors and
+ * for the world's flat test. */
 const char *rt_accel_box_test(const rt_accel *a);
+/* The quads a's world tests all at once instead of walking its tree
+ * (world.h, rt_world_flat_quads), or 0. */
+uint32_t rt_accel_flat_quads(const rt_accel *a);
 /* Our BVH inside a when a runs it with the AVX box test (the bvh kind on a
  * CPU with AVX), else NULL: for code compiled for AVX that calls
  * rt_bvh_closest_avx itself (path.h's path loop). */

@@ -318,6 +318,22 @@ static double extent_of(const rt_scene *s, const box *bx, uint32_t n)
 
 static void orient_hulls(rt_world *w);
 
+/* The leaves a ray that enters the scene's box enters on average, by the
+ * surface-area heuristic's rule (a box's chance to be entered is its area
+ * over the scene box's): the items' boxes' areas over the scene box's.
+ * The rooms of books 2 and 3 about 2 (walls as large as the room's
+ * faces), scenes of objects apart about 1: world_flat.c's rule. */
+static double leaves_per_ray(const box *bx, uint32_t n)
+{
+    box all = EMPTY;
+    double sum = 0.0;
+    for (uint32_t i = 0; i < n; i++) {
+        grow(&all, &bx[i]);
+        sum += area(&bx[i]);
+    }
+    return sum / area(&all);
+}
+
 int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double t_lo, double t_hi)
 {
     *out = NULL;
@@ -325,15 +341,15 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
     if (!w)
         return RT_ENOMEM;
     w->s = s;
-    w->mode = mode;
+    w->mode = mode == RT_WORLD_FLAT ? RT_WORLD_BVH : mode; /* the flat test where it can, else the tree */
     w->t_lo = t_lo;
     w->t_hi = t_hi;
 #if RT_BVH_HAVE_AVX
     __builtin_cpu_init();
-    if (mode == RT_WORLD_BVH && !__builtin_cpu_supports("avx"))
+    if (w->mode == RT_WORLD_BVH && !__builtin_cpu_supports("avx"))
         w->mode = RT_WORLD_BVH_SSE;
 #else
-    if (mode == RT_WORLD_BVH)
+    if (w->mode == RT_WORLD_BVH)
         w->mode = RT_WORLD_BVH_SSE;
 #endif
     w->nq = s->shapes.quads.n;
@@ -362,7 +378,10 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
     }
     if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)
         st = build_tree(w, bx, extent_of(s, bx, w->nitems));
+    const double leaves = !st && w->nitems ? leaves_per_ray(bx, w->nitems) : 0.0;
     free(bx);
+    if (!st && w->mode == RT_WORLD_BVH)
+        st = rt_world_flat_build(w, mode == RT_WORLD_FLAT, leaves);
     if (st) {
         rt_world_free(w);
         return st;
@@ -381,18 +400,25 @@ void rt_world_free(rt_world *w)
     free(w->items);
     free(w->mat);
     free(w->nodes);
+    free(w->flat);
     free(w);
 }
 
 size_t rt_world_bytes(const rt_world *w)
 {
     return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
-           (size_t)w->nitems * (sizeof *w->items + sizeof *w->mat) + (size_t)w->n_nodes * sizeof(wide);
+           (size_t)w->nitems * (sizeof *w->items + sizeof *w->mat) + (size_t)w->n_nodes * sizeof(wide) +
+           (size_t)w->n_flat * rt_world_flat_block_bytes();
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }
 
-int rt_world_uses_avx(const rt_world *w) { return RT_BVH_HAVE_AVX && w->n_nodes && w->mode == RT_WORLD_BVH; }
+int rt_world_uses_avx(const rt_world *w)
+{
+    return RT_BVH_HAVE_AVX && w->n_nodes && w->mode == RT_WORLD_BVH && !w->flat;
+}
+
+uint32_t rt_world_flat_quads(const rt_world *w) { return w->flat ? w->nq : 0; }
 
 /* Turns every medium's hull quads outward (rt_world_medium_span clips the
  * line by their planes): the normal and offset of a quad whose plane has

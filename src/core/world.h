@@ -32,7 +32,9 @@ typedef struct rt_whit {
 } rt_whit;
 
 /* How rt_world_closest finds its hit: the wide tree with the fastest box
- * test the CPU has (AVX, else SSE2, else the portable one), brute force
+ * test the CPU has (AVX, else SSE2, else the portable one), or in a scene
+ * of a few quads on a CPU with AVX-512 every quad at once (world_flat.c),
+ * brute force
  * (every shape: the oracle), or the tree with the SSE2 or the portable box
  * test whatever the CPU (what other nodes run; --accel bvh-sse and
  * bvh-scalar). All of them find the same hits. */
@@ -41,6 +43,7 @@ typedef enum rt_world_mode {
     RT_WORLD_BRUTE = 1,
     RT_WORLD_BVH_SSE = 2,
     RT_WORLD_BVH_SCALAR = 3,
+    RT_WORLD_FLAT = 4, /* RT_WORLD_BVH with the flat test whatever the scene's size (tests) */
 } rt_world_mode;
 
 /* Levels of the wide tree at most; a deeper tree (degenerate input) is
@@ -57,6 +60,9 @@ size_t rt_world_bytes(const rt_world *w);
 const rt_perlin *rt_world_perlin(const rt_world *w);
 /* 1 when w's tree runs the AVX box test (RT_WORLD_BVH on a CPU with AVX). */
 int rt_world_uses_avx(const rt_world *w);
+/* The quads w tests all at once instead of walking its tree (world_flat.c:
+ * RT_WORLD_BVH in a scene of a few quads on a CPU with AVX-512), or 0. */
+uint32_t rt_world_flat_quads(const rt_world *w);
 
 /* The closest quad, moving sphere (at the ray's time) or static sphere
  * with tmin < t <= tmax: the least t, of equal ones the quads before the

@@ -18,18 +18,6 @@
 #undef WTRAVERSE
 #undef WTRAV_AVX
 
-/* The hit of item best at best_t (UINT32_MAX: none), its kind, index and
- * material decoded; returns 1 on a hit. */
-static inline __attribute__((always_inline)) int hit_of(const rt_world *w, double best_t, uint32_t best, rt_whit *hit)
-{
-    if (best == UINT32_MAX)
-        return 0;
-    hit->t = best_t;
-    rt_world_shape(w, best, &hit->kind, &hit->index);
-    hit->material = w->mat[best];
-    return 1;
-}
-
 #if RT_BVH_HAVE_AVX
 #ifdef __clang__
 #pragma clang attribute push(__attribute__((target("avx"))), apply_to = function)
@@ -47,7 +35,7 @@ static int walk_avx(const rt_world *w, const rt_ray *ray, double time, double tm
     double best_t = tmax;
     uint32_t best = UINT32_MAX;
     closest_avx(w, ray, time, tmin, &best_t, &best, 1, 0);
-    return hit_of(w, best_t, best, hit);
+    return rt_world_hit_of(w, best_t, best, hit);
 }
 static int any_avx(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t item)
 {
@@ -101,7 +89,7 @@ static int walk_other(const rt_world *w, const rt_ray *ray, double time, double 
     double best_t = tmax;
     uint32_t best = UINT32_MAX;
     query(w, ray, time, tmin, &best_t, &best, 0);
-    return hit_of(w, best_t, best, hit);
+    return rt_world_hit_of(w, best_t, best, hit);
 }
 
 static int any_other(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, uint32_t item)
@@ -120,6 +108,8 @@ void rt_world_pick(rt_world *w)
         w->closest = walk_avx;
         w->occluded = any_avx;
     }
+    if (w->flat && w->mode == RT_WORLD_BVH)
+        rt_world_flat_pick(w);
 #endif
 }
 

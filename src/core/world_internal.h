@@ -52,6 +52,8 @@ struct rt_world {
     wide *nodes;
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
+    struct flat8 *flat; /* the quads eight to a block for the flat test (world_flat.c), or NULL */
+    uint32_t n_flat;
     rt_perlin perlin;
     double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
 };
@@ -71,6 +73,17 @@ static inline void rt_world_shape(const rt_world *w, uint32_t item, uint32_t *ki
 /* Sets w's queries for its mode and tree (world_closest.c): the last step
  * of the build. */
 void rt_world_pick(rt_world *w);
+
+/* The flat test (world_flat.c): every quad at once, eight to an AVX-512
+ * register. rt_world_flat_build lays the quads out for it (w->flat) when
+ * the CPU has AVX-512 and the scene is one it is for (its size, and
+ * leaves_per_ray: the tree's leaves a ray enters on average, world.c), or
+ * with force whatever the scene (RT_WORLD_FLAT); else it leaves w->flat
+ * NULL. Returns RT_OK or RT_ENOMEM. rt_world_flat_pick sets w's queries
+ * to it. */
+int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray);
+size_t rt_world_flat_block_bytes(void);
+void rt_world_flat_pick(rt_world *w);
 
 /* The book's quad test: the plane, then the edge coordinates in [0, 1]. */
 static inline int rt_quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, double *t)
@@ -120,6 +133,19 @@ static inline int rt_world_test_item(const rt_world *w, uint32_t i, const rt_ray
         return 1;
     }
     return 0;
+}
+
+/* The hit of item best at best_t (UINT32_MAX: none), its kind, index and
+ * material decoded; returns 1 on a hit. */
+static inline __attribute__((always_inline)) int rt_world_hit_of(const rt_world *w, double best_t, uint32_t best,
+                                                                 rt_whit *hit)
+{
+    if (best == UINT32_MAX)
+        return 0;
+    hit->t = best_t;
+    rt_world_shape(w, best, &hit->kind, &hit->index);
+    hit->material = w->mat[best];
+    return 1;
 }
 
 #endif

@@ -1,7 +1,7 @@
 /* test_world.c - book 2's geometry: quads and boxes against closed forms,
- * moving spheres at their time, the quads' BVH against brute force on
- * book 2's scenes, instances flattened exactly, the media's spans and
- * free flights (transmittance exp(-d L)), and the scene bytes' round trip. */
+ * moving spheres at their time, instances flattened exactly, the media's
+ * spans and free flights (transmittance exp(-d L)), and the scene bytes'
+ * round trip. The walks against brute force: test_world_query.c. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -79,117 +79,6 @@ static void check_mover(void)
         CHECK_EQ_INT(h.kind, RT_SHAPE_MOVER);
         rt_world_free(w);
     }
-    rt_scene_free(&s);
-}
-
-/* The wide tree, with each box test (mode: the CPU's best, SSE2, the
- * portable one), finds brute force's hit (kind, index and t to the bit) for
- * random rays in book 2's scenes with quads and moving spheres. */
-static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
-{
-    rt_scene s;
-    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
-    rt_world *wb, *wf;
-    CHECK_EQ_INT(rt_world_build(&wb, &s, mode, 0.0, 1.0), RT_OK);
-    CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
-    rt_accel *acc; /* the spheres' own BVH: the world's static spheres must give its hits */
-    CHECK_EQ_INT(rt_accel_new(&acc, &s, RT_ACCEL_BVH), RT_OK);
-    rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
-    int hits = 0, same = 0, spheres = 0, as_accel = 0;
-    const int N = 20000;
-    const rt_vec3 from = s.camera.lookfrom, at = s.camera.lookat;
-    const double span = 0.6 * rt_v3_len(rt_v3_sub(from, at));
-    for (int i = 0; i < N; i++) {
-        /* origins inside and around the scene, any direction */
-        rt_vec3 o = rt_v3_add(at, rt_v3(span * (rt_rng_double(&rng) - 0.5), span * (rt_rng_double(&rng) - 0.5),
-                                        span * (rt_rng_double(&rng) - 0.5)));
-        if (i % 4 == 0)
-            o = from;
-        rt_vec3 d = rt_sample_unit_vector(&rng);
-        if (i % 16 == 1) /* axis-aligned rays: zero direction components */
-            d = rt_v3(0, i % 32 == 1 ? -1 : 0, i % 32 == 1 ? 0 : 1);
-        const rt_ray r = ray_of(o, d);
-        const double time = rt_rng_double(&rng);
-        rt_whit a = {0, 0, 0, 0}, b = {0, 0, 0, 0};
-        const int ha = rt_world_closest(wb, &r, time, 0.001, INFINITY, &a);
-        const int hb = rt_world_closest(wf, &r, time, 0.001, INFINITY, &b);
-        hits += hb;
-        same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index &&
-                                     a.material == b.material && a.material == rt_world_material(wb, &a)));
-        rt_hit sh; /* the sphere BVH's hit, which the world's must be unless a quad or mover is as near */
-        const int hs = s.n_spheres && rt_accel_closest(acc, &r, 0.001, INFINITY, &sh);
-        spheres += ha && a.kind == RT_SHAPE_SPHERE;
-        as_accel += ha ? (a.kind == RT_SHAPE_SPHERE ? hs && sh.t == a.t && sh.prim == a.index : !hs || sh.t >= a.t)
-                       : !hs;
-        if (!(ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index))) && same + 5 > i)
-            fprintf(stderr, "  %s ray %d: bvh %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n",
-                    name, i, ha, a.t, a.kind, a.index, hb, b.t, b.kind, b.index);
-    }
-    fprintf(stderr, "%s (mode %d): %d rays, %d hit (%d static spheres), %d the same from BVH and brute force, %d as "
-            "the spheres' BVH\n", name, (int)mode, N, hits, spheres, same, as_accel);
-    CHECK_EQ_INT(same, N);
-    CHECK_EQ_INT(as_accel, N);
-    CHECK(hits > N / 20);
-    rt_accel_free(acc);
-    rt_world_free(wb);
-    rt_world_free(wf);
-    rt_scene_free(&s);
-}
-
-/* rt_world_occluded and rt_world_shape_t against rt_world_closest: the
- * closest shape's own t is the hit's, nothing stands in front of it, and
- * another shape is occluded exactly when the closest hit up to its t is
- * not that shape. */
-static void check_occluded(const char *name, rt_world_mode mode)
-{
-    rt_scene s;
-    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
-    rt_world *w;
-    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
-    rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
-    const uint32_t nq = s.shapes.quads.n, ns = nq + s.shapes.movers.n, n = ns + s.n_spheres;
-    int agree = 0, blocked = 0;
-    const int N = 5000;
-    const double span = 0.6 * rt_v3_len(rt_v3_sub(s.camera.lookfrom, s.camera.lookat));
-    for (int i = 0; i < N; i++) {
-        const double dist = span * rt_rng_double(&rng);
-        const rt_vec3 o = rt_v3_add(s.camera.lookat, rt_v3_scale(rt_sample_unit_vector(&rng), dist));
-        const double time = rt_rng_double(&rng);
-        const uint32_t item = (uint32_t)(rt_rng_double(&rng) * n);
-        const uint32_t kind = item < nq ? RT_SHAPE_QUAD : item < ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
-        const uint32_t index = item < nq ? item : item < ns ? item - nq : item - ns;
-        rt_vec3 to; /* a point of the shape (the mover's centre at the time) */
-        if (item < nq) {
-            const rt_quad *q = &s.shapes.quads.items[index];
-            const double fu = rt_rng_double(&rng), fv = rt_rng_double(&rng);
-            to = rt_v3_add(q->q, rt_v3_add(rt_v3_scale(q->u, fu), rt_v3_scale(q->v, fv)));
-        } else if (item < ns) {
-            const rt_mover *mv = &s.shapes.movers.items[index];
-            to = rt_v3_add(mv->center0, rt_v3_scale(rt_v3_sub(mv->center1, mv->center0), time));
-        } else {
-            to = s.spheres[index].center;
-        }
-        const rt_ray r = ray_of(o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
-        rt_whit h, c;
-        double t = 0;
-        int ok = 1;
-        if (rt_world_closest(w, &r, time, 0.001, INFINITY, &h)) {
-            ok &= rt_world_shape_t(w, h.kind, h.index, &r, time, 0.001, &t) && t == h.t;
-            ok &= !rt_world_occluded(w, &r, time, 0.001, h.t, h.kind, h.index);
-        }
-        if (rt_world_shape_t(w, kind, index, &r, time, 0.001, &t)) {
-            const int occ = rt_world_occluded(w, &r, time, 0.001, t, kind, index);
-            CHECK_EQ_INT(rt_world_closest(w, &r, time, 0.001, t, &c), 1);
-            ok &= occ == !(c.kind == kind && c.index == index && c.t == t);
-            blocked += occ;
-        }
-        agree += ok;
-    }
-    fprintf(stderr, "%s occluded (mode %d): %d rays, %d agree with the closest hit, %d blocked\n", name, (int)mode,
-            N, agree, blocked);
-    CHECK_EQ_INT(agree, N);
-    CHECK(blocked > N / 50);
-    rt_world_free(w);
     rt_scene_free(&s);
 }
 
@@ -582,16 +471,6 @@ int main(void)
     check_quad();
     check_mover();
     check_instance();
-    const rt_world_mode modes[] = {RT_WORLD_BVH, RT_WORLD_BVH_SSE, RT_WORLD_BVH_SCALAR};
-    for (int m = 0; m < 3; m++) {
-        check_bvh_vs_brute("cornell-box", modes[m]);
-        check_bvh_vs_brute("cornell-smoke", modes[m]);
-        check_bvh_vs_brute("bouncing-spheres", modes[m]);
-        check_bvh_vs_brute("quads", modes[m]);
-        check_occluded("cornell-box", modes[m]);
-        check_occluded("bouncing-spheres", modes[m]);
-    }
-    check_occluded("cornell-smoke", RT_WORLD_BRUTE);
     check_hull_span();
     check_transmittance(0);
     check_transmittance(1);

@@ -1,0 +1,239 @@
+/* test_world_query.c - the world's queries against brute force, the oracle:
+ * the wide tree with each box test and the flat test of every quad
+ * (world_flat.c) find brute force's closest hit (kind, index and t to the
+ * bit) and agree on what stands in front of a shape, on book 2's and
+ * book 3's scenes and on quads made to tie. */
+#include <math.h>
+#include <stdio.h>
+
+#include "accel.h"
+#include "bvh.h"
+#include "check.h"
+#include "core_internal.h"
+#include "rng.h"
+#include "scenes.h"
+#include "status.h"
+#include "world.h"
+
+static rt_ray ray_of(rt_vec3 o, rt_vec3 d)
+{
+    rt_ray r = {o, d};
+    return r;
+}
+
+/* Each mode (the CPU's best, which in a small scene on a CPU with AVX-512
+ * is the flat test; the SSE2 and the portable box tests; the flat test
+ * whatever the size) finds brute force's hit (kind, index and t to the
+ * bit) for random rays in book 2's and book 3's scenes. */
+static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
+    rt_world *wb, *wf;
+    CHECK_EQ_INT(rt_world_build(&wb, &s, mode, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&wf, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
+    rt_accel *acc; /* the spheres' own BVH: the world's static spheres must give its hits */
+    CHECK_EQ_INT(rt_accel_new(&acc, &s, RT_ACCEL_BVH), RT_OK);
+    rt_rng rng = rt_rng_for_stream(9, RT_STREAM_TEST);
+    int hits = 0, same = 0, spheres = 0, as_accel = 0;
+    const int N = 20000;
+    const rt_vec3 from = s.camera.lookfrom, at = s.camera.lookat;
+    const double span = 0.6 * rt_v3_len(rt_v3_sub(from, at));
+    for (int i = 0; i < N; i++) {
+        /* origins inside and around the scene, any direction */
+        rt_vec3 o = rt_v3_add(at, rt_v3(span * (rt_rng_double(&rng) - 0.5), span * (rt_rng_double(&rng) - 0.5),
+                                        span * (rt_rng_double(&rng) - 0.5)));
+        if (i % 4 == 0)
+            o = from;
+        rt_vec3 d = rt_sample_unit_vector(&rng);
+        if (i % 16 == 1) /* axis-aligned rays: zero direction components */
+            d = rt_v3(0, i % 32 == 1 ? -1 : 0, i % 32 == 1 ? 0 : 1);
+        const rt_ray r = ray_of(o, d);
+        const double time = rt_rng_double(&rng);
+        rt_whit a = {0, 0, 0, 0}, b = {0, 0, 0, 0};
+        const int ha = rt_world_closest(wb, &r, time, 0.001, INFINITY, &a);
+        const int hb = rt_world_closest(wf, &r, time, 0.001, INFINITY, &b);
+        hits += hb;
+        same += ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index &&
+                                     a.material == b.material && a.material == rt_world_material(wb, &a)));
+        rt_hit sh; /* the sphere BVH's hit, which the world's must be unless a quad or mover is as near */
+        const int hs = s.n_spheres && rt_accel_closest(acc, &r, 0.001, INFINITY, &sh);
+        spheres += ha && a.kind == RT_SHAPE_SPHERE;
+        as_accel += ha ? (a.kind == RT_SHAPE_SPHERE ? hs && sh.t == a.t && sh.prim == a.index : !hs || sh.t >= a.t)
+                       : !hs;
+        if (!(ha == hb && (!ha || (a.t == b.t && a.kind == b.kind && a.index == b.index))) && same + 5 > i)
+            fprintf(stderr, "  %s ray %d: bvh %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n",
+                    name, i, ha, a.t, a.kind, a.index, hb, b.t, b.kind, b.index);
+    }
+    fprintf(stderr, "%s (mode %d, flat test of %u quads): %d rays, %d hit (%d static spheres), %d the same as brute "
+            "force, %d as the spheres' BVH\n", name, (int)mode, rt_world_flat_quads(wb), N, hits, spheres, same,
+            as_accel);
+    CHECK_EQ_INT(same, N);
+    CHECK_EQ_INT(as_accel, N);
+    CHECK(hits > N / 20);
+    rt_accel_free(acc);
+    rt_world_free(wb);
+    rt_world_free(wf);
+    rt_scene_free(&s);
+}
+
+/* rt_world_occluded and rt_world_shape_t against rt_world_closest: the
+ * closest shape's own t is the hit's, nothing stands in front of it, and
+ * another shape is occluded exactly when the closest hit up to its t is
+ * not that shape. */
+static void check_occluded(const char *name, rt_world_mode mode)
+{
+    rt_scene s;
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, NULL), RT_OK);
+    rt_world *w;
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
+    rt_rng rng = rt_rng_for_stream(11, RT_STREAM_TEST);
+    const uint32_t nq = s.shapes.quads.n, ns = nq + s.shapes.movers.n, n = ns + s.n_spheres;
+    int agree = 0, blocked = 0;
+    const int N = 5000;
+    const double span = 0.6 * rt_v3_len(rt_v3_sub(s.camera.lookfrom, s.camera.lookat));
+    for (int i = 0; i < N; i++) {
+        const double dist = span * rt_rng_double(&rng);
+        const rt_vec3 o = rt_v3_add(s.camera.lookat, rt_v3_scale(rt_sample_unit_vector(&rng), dist));
+        const double time = rt_rng_double(&rng);
+        const uint32_t item = (uint32_t)(rt_rng_double(&rng) * n);
+        const uint32_t kind = item < nq ? RT_SHAPE_QUAD : item < ns ? RT_SHAPE_MOVER : RT_SHAPE_SPHERE;
+        const uint32_t index = item < nq ? item : item < ns ? item - nq : item - ns;
+        rt_vec3 to; /* a point of the shape (the mover's centre at the time) */
+        if (item < nq) {
+            const rt_quad *q = &s.shapes.quads.items[index];
+            const double fu = rt_rng_double(&rng), fv = rt_rng_double(&rng);
+            to = rt_v3_add(q->q, rt_v3_add(rt_v3_scale(q->u, fu), rt_v3_scale(q->v, fv)));
+        } else if (item < ns) {
+            const rt_mover *mv = &s.shapes.movers.items[index];
+            to = rt_v3_add(mv->center0, rt_v3_scale(rt_v3_sub(mv->center1, mv->center0), time));
+        } else {
+            to = s.spheres[index].center;
+        }
+        const rt_ray r = ray_of(o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
+        rt_whit h, c;
+        double t = 0;
+        int ok = 1;
+        if (rt_world_closest(w, &r, time, 0.001, INFINITY, &h)) {
+            ok &= rt_world_shape_t(w, h.kind, h.index, &r, time, 0.001, &t) && t == h.t;
+            ok &= !rt_world_occluded(w, &r, time, 0.001, h.t, h.kind, h.index);
+        }
+        if (rt_world_shape_t(w, kind, index, &r, time, 0.001, &t)) {
+            const int occ = rt_world_occluded(w, &r, time, 0.001, t, kind, index);
+            CHECK_EQ_INT(rt_world_closest(w, &r, time, 0.001, t, &c), 1);
+            ok &= occ == !(c.kind == kind && c.index == index && c.t == t);
+            blocked += occ;
+        }
+        agree += ok;
+    }
+    fprintf(stderr, "%s occluded (mode %d, flat test of %u quads): %d rays, %d agree with the closest hit, %d blocked\n",
+            name, (int)mode, rt_world_flat_quads(w), N, agree, blocked);
+    CHECK_EQ_INT(agree, N);
+    CHECK(blocked > N / 50);
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
+/* Quads that tie: the square z = -2, x and y in [0, 2], as items 0, 5 and
+ * 17 (three registers of the flat test), with other quads about it. Every
+ * mode finds brute force's hit; a ray through the square hits item 0 (of
+ * equal t the lowest), which stands in front of its copies' hits but not
+ * of its own. A ray in a quad's plane (zero denominator) and one whose
+ * denominator is just below rt_quad_t's 1e-8 hit nothing there. */
+static void check_ties(rt_world_mode mode)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t m;
+    rt_material lam = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    rt_rng rng = rt_rng_for_stream(13, RT_STREAM_TEST);
+    for (uint32_t i = 0; i < 20; i++) {
+        rt_vec3 q = rt_v3(0, 0, -2), u = rt_v3(2, 0, 0), v = rt_v3(0, 2, 0);
+        if (i != 0 && i != 5 && i != 17) { /* others: random, some sharing the square's plane or edges */
+            q = rt_v3(4 * rt_rng_double(&rng) - 2, 4 * rt_rng_double(&rng) - 2, i % 3 ? -3 * rt_rng_double(&rng) : -2);
+            u = i % 4 ? rt_v3(1 + rt_rng_double(&rng), 0, 0) : rt_sample_unit_vector(&rng);
+            v = i % 4 ? rt_v3(0, 1 + rt_rng_double(&rng), 0) : rt_v3_cross(u, rt_sample_unit_vector(&rng));
+        }
+        CHECK_EQ_INT(rt_scene_add_quad(&s, q, u, v, m, NULL), RT_OK);
+    }
+    CHECK_EQ_INT(s.shapes.quads.n, 20);
+    rt_world *w, *b;
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&b, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
+    int same = 0, square = 0;
+    const int N = 20000;
+    for (int i = 0; i < N; i++) {
+        const rt_vec3 o = rt_v3(6 * rt_rng_double(&rng) - 3, 6 * rt_rng_double(&rng) - 3, 2 * rt_rng_double(&rng));
+        const rt_vec3 to = rt_v3(2.2 * rt_rng_double(&rng) - 0.1, 2.2 * rt_rng_double(&rng) - 0.1, -2);
+        const rt_ray r = ray_of(o, i % 8 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
+        rt_whit a = {0, 0, 0, 0}, c = {0, 0, 0, 0};
+        const int ha = rt_world_closest(w, &r, 0, 0.001, INFINITY, &a), hc = rt_world_closest(b, &r, 0, 0.001, INFINITY, &c);
+        same += ha == hc && (!ha || (a.t == c.t && a.kind == c.kind && a.index == c.index));
+        if (ha && a.index == 0) {
+            square++;
+            CHECK_EQ_INT(rt_world_occluded(w, &r, 0, 0.001, a.t, RT_SHAPE_QUAD, 5), 1);
+            CHECK_EQ_INT(rt_world_occluded(w, &r, 0, 0.001, a.t, RT_SHAPE_QUAD, 17), 1);
+            CHECK_EQ_INT(rt_world_occluded(w, &r, 0, 0.001, a.t, RT_SHAPE_QUAD, 0), 0);
+        }
+    }
+    fprintf(stderr, "ties (mode %d, flat test of %u quads): %d rays, %d the same as brute force, %d hit the square\n",
+            (int)mode, rt_world_flat_quads(w), N, same, square);
+    CHECK_EQ_INT(same, N);
+    CHECK(square > N / 10);
+    rt_world_free(w);
+    rt_world_free(b);
+    rt_scene_free(&s);
+    /* the square alone: a ray in its plane, and one that meets it at t
+     * 1.11 inside but whose denominator is below 1e-8, hit nothing */
+    rt_scene_init(&s);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, -2), rt_v3(2, 0, 0), rt_v3(0, 2, 0), m, NULL), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
+    rt_whit h;
+    const rt_ray in_plane = ray_of(rt_v3(-1, 1, -2), rt_v3(1, 0, 0));
+    CHECK_EQ_INT(rt_world_closest(w, &in_plane, 0, 0.001, INFINITY, &h), 0);
+    const rt_ray grazing = ray_of(rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -0.9e-8));
+    CHECK_EQ_INT(rt_world_closest(w, &grazing, 0, 0.001, INFINITY, &h), 0);
+    const rt_ray steeper = ray_of(rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -1.1e-8)); /* above 1e-8: a hit */
+    CHECK_EQ_INT(rt_world_closest(w, &steeper, 0, 0.001, INFINITY, &h), 1);
+    rt_world_free(w);
+    rt_scene_free(&s);
+}
+
+int main(void)
+{
+    const rt_world_mode modes[] = {RT_WORLD_BVH, RT_WORLD_BVH_SSE, RT_WORLD_BVH_SCALAR, RT_WORLD_FLAT};
+    for (int k = 0; k < 4; k++) {
+        check_bvh_vs_brute("cornell-box", modes[k]);
+        check_bvh_vs_brute("cornell-smoke", modes[k]);
+        check_bvh_vs_brute("book3-final", modes[k]);
+        check_bvh_vs_brute("simple-light", modes[k]);
+        check_bvh_vs_brute("bouncing-spheres", modes[k]);
+        check_bvh_vs_brute("quads", modes[k]);
+        check_occluded("cornell-box", modes[k]);
+        check_occluded("book3-final", modes[k]);
+        check_occluded("bouncing-spheres", modes[k]);
+        check_ties(modes[k]);
+    }
+    check_occluded("cornell-smoke", RT_WORLD_BRUTE);
+    /* which scenes the CPU's best mode tests flat (world_flat.c's rule) */
+    rt_scene s;
+    rt_world *w;
+    __builtin_cpu_init();
+    const uint32_t avx512 = __builtin_cpu_supports("avx512f") && RT_BVH_HAVE_AVX;
+    /* the rooms of few quads; not cornell-box's 18 quads, nor scenes of
+     * objects apart (quads, simple-light: about one leaf a ray) */
+    const char *names[] = {"book3-final", "cornell-smoke", "cornell-box", "quads", "simple-light", "bouncing-spheres"};
+    const uint32_t flat[] = {12, 6, 0, 0, 0, 0};
+    for (int k = 0; k < 6; k++) {
+        CHECK_EQ_INT(rt_scene_build_named(&s, names[k], 42, 11, NULL), RT_OK);
+        CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH, 0.0, 1.0), RT_OK);
+        CHECK_EQ_INT(rt_world_flat_quads(w), avx512 * flat[k]);
+        rt_world_free(w);
+        rt_scene_free(&s);
+    }
+    fprintf(stderr, "this CPU %s AVX-512: the flat test %s\n", avx512 ? "has" : "lacks",
+            avx512 ? "ran above" : "was not tested");
+    CHECK_DONE();
+}
