@@ -188,10 +188,10 @@ const char *rt_accel_box_test(const rt_accel *a)
     const char *baseline = RT_BVH_HAVE_SSE2 ? "sse2" : "portable";
     switch (a->kind) {
     case RT_ACCEL_BVH:
-        if (!a->bvh && rt_accel_flat_quads(a))
-            return NULL; /* the flat test: no boxes */
-        if (!a->bvh) /* a book-2 scene: the world's tree */
-            return a->world && rt_world_uses_avx(a->world) ? "avx" : baseline;
+        if (!a->bvh) /* a book-2 scene: the world's tree, or its flat test (no boxes) */
+            return rt_accel_flat_quads(a)                      ? NULL
+                   : a->world && rt_world_uses_avx(a->world) ? "avx"
+                                                               : baseline;
         return rt_bvh_uses_avx(a->bvh) ? "avx" : baseline;
     case RT_ACCEL_BVH_SSE:
         return baseline;

@@ -408,7 +408,7 @@ size_t rt_world_bytes(const rt_world *w)
 {
     return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
            (size_t)w->nitems * (sizeof *w->items + sizeof *w->mat) + (size_t)w->n_nodes * sizeof(wide) +
-           (size_t)w->n_flat * rt_world_flat_block_bytes();
+           (size_t)w->n_flat * sizeof(flat8);
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }

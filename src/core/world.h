@@ -32,12 +32,11 @@ typedef struct rt_whit {
 } rt_whit;
 
 /* How rt_world_closest finds its hit: the wide tree with the fastest box
- * test the CPU has (AVX, else SSE2, else the portable one), or in a scene
- * of a few quads on a CPU with AVX-512 every quad at once (world_flat.c),
- * brute force
- * (every shape: the oracle), or the tree with the SSE2 or the portable box
- * test whatever the CPU (what other nodes run; --accel bvh-sse and
- * bvh-scalar). All of them find the same hits. */
+ * test the CPU has (AVX, else SSE2, else the portable one), or in a room
+ * of a few quads on a CPU with AVX-512 every quad at once (world_flat.c);
+ * brute force (every shape: the oracle); or the tree with the SSE2 or the
+ * portable box test whatever the CPU (what other nodes run; --accel
+ * bvh-sse and bvh-scalar). All of them find the same hits. */
 typedef enum rt_world_mode {
     RT_WORLD_BVH = 0,
     RT_WORLD_BRUTE = 1,

@@ -40,18 +40,7 @@
 #if RT_BVH_HAVE_AVX
 #include <immintrin.h>
 
-#define FL 8 /* quads a block: one AVX-512 register of doubles */
-
-/* Eight quads' rows: the corner, the unit normal, the edge-coordinate
- * vectors (quad_x's), the plane's offset, and the items as doubles. A
- * block's unused lanes have a zero normal: their denominator is 0, below
- * rt_quad_t's 1e-8, so they never hit. */
-typedef struct flat8 {
-    _Alignas(64) double q[3][FL];
-    double n[3][FL], ea[3][FL], eb[3][FL], d[FL], item[FL];
-} flat8;
-
-size_t rt_world_flat_block_bytes(void) { return sizeof(flat8); }
+#define FL RT_FLAT_WIDTH
 
 int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray)
 {
@@ -61,10 +50,10 @@ int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray)
                     !(leaves_per_ray >= RT_FLAT_LEAVES_MIN))))
         return RT_OK;
     const uint32_t nb = (w->nq + FL - 1) / FL;
-    flat8 *f = aligned_alloc(64, (nb ? nb : 1) * sizeof *f);
+    flat8 *f = aligned_alloc(64, nb * sizeof *f); /* nb >= 1: there are quads */
     if (!f)
         return RT_ENOMEM;
-    memset(f, 0, (nb ? nb : 1) * sizeof *f);
+    memset(f, 0, nb * sizeof *f);
     for (uint32_t i = 0; i < nb * FL; i++) {
         flat8 *b = &f[i / FL];
         const int l = (int)(i % FL);
@@ -200,8 +189,6 @@ void rt_world_flat_pick(rt_world *w)
 }
 
 #else
-
-size_t rt_world_flat_block_bytes(void) { return 0; }
 
 int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray)
 {

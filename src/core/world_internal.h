@@ -24,6 +24,17 @@ typedef struct quad_x {
 
 #define WWIDTH FBOX_WIDTH
 
+/* Eight quads' rows for the flat test (world_flat.c): the corner, the
+ * unit normal, the edge-coordinate vectors (quad_x's), the plane's
+ * offset, and the items as doubles. A block's unused lanes have a zero
+ * normal: their denominator is 0, below rt_quad_t's 1e-8, so they never
+ * hit. */
+#define RT_FLAT_WIDTH 8 /* one AVX-512 register of doubles */
+typedef struct flat8 {
+    _Alignas(64) double q[3][RT_FLAT_WIDTH];
+    double n[3][RT_FLAT_WIDTH], ea[3][RT_FLAT_WIDTH], eb[3][RT_FLAT_WIDTH], d[RT_FLAT_WIDTH], item[RT_FLAT_WIDTH];
+} flat8;
+
 /* A node of the wide tree: its children's boxes in float, rounded outward
  * (fbox.h), rows x, y, z; a child is a node (code >= 0) or a leaf, item
  * ~code (a leaf holds one item: world.c's LEAF_ITEMS). */
@@ -52,7 +63,7 @@ struct rt_world {
     wide *nodes;
     uint32_t n_nodes;
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
-    struct flat8 *flat; /* the quads eight to a block for the flat test (world_flat.c), or NULL */
+    flat8 *flat; /* the quads eight to a block for the flat test (world_flat.c), or NULL */
     uint32_t n_flat;
     rt_perlin perlin;
     double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
@@ -82,7 +93,6 @@ void rt_world_pick(rt_world *w);
  * NULL. Returns RT_OK or RT_ENOMEM. rt_world_flat_pick sets w's queries
  * to it. */
 int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray);
-size_t rt_world_flat_block_bytes(void);
 void rt_world_flat_pick(rt_world *w);
 
 /* The book's quad test: the plane, then the edge coordinates in [0, 1]. */

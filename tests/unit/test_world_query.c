@@ -15,12 +15,6 @@
 #include "status.h"
 #include "world.h"
 
-static rt_ray ray_of(rt_vec3 o, rt_vec3 d)
-{
-    rt_ray r = {o, d};
-    return r;
-}
-
 /* Each mode (the CPU's best, which in a small scene on a CPU with AVX-512
  * is the flat test; the SSE2 and the portable box tests; the flat test
  * whatever the size) finds brute force's hit (kind, index and t to the
@@ -48,7 +42,7 @@ static void check_bvh_vs_brute(const char *name, rt_world_mode mode)
         rt_vec3 d = rt_sample_unit_vector(&rng);
         if (i % 16 == 1) /* axis-aligned rays: zero direction components */
             d = rt_v3(0, i % 32 == 1 ? -1 : 0, i % 32 == 1 ? 0 : 1);
-        const rt_ray r = ray_of(o, d);
+        const rt_ray r = {o, d};
         const double time = rt_rng_double(&rng);
         rt_whit a = {0, 0, 0, 0}, b = {0, 0, 0, 0};
         const int ha = rt_world_closest(wb, &r, time, 0.001, INFINITY, &a);
@@ -110,7 +104,7 @@ static void check_occluded(const char *name, rt_world_mode mode)
         } else {
             to = s.spheres[index].center;
         }
-        const rt_ray r = ray_of(o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
+        const rt_ray r = {o, i % 2 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng)};
         rt_whit h, c;
         double t = 0;
         int ok = 1;
@@ -166,7 +160,7 @@ static void check_ties(rt_world_mode mode)
     for (int i = 0; i < N; i++) {
         const rt_vec3 o = rt_v3(6 * rt_rng_double(&rng) - 3, 6 * rt_rng_double(&rng) - 3, 2 * rt_rng_double(&rng));
         const rt_vec3 to = rt_v3(2.2 * rt_rng_double(&rng) - 0.1, 2.2 * rt_rng_double(&rng) - 0.1, -2);
-        const rt_ray r = ray_of(o, i % 8 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng));
+        const rt_ray r = {o, i % 8 ? rt_v3_sub(to, o) : rt_sample_unit_vector(&rng)};
         rt_whit a = {0, 0, 0, 0}, c = {0, 0, 0, 0};
         const int ha = rt_world_closest(w, &r, 0, 0.001, INFINITY, &a), hc = rt_world_closest(b, &r, 0, 0.001, INFINITY, &c);
         same += ha == hc && (!ha || (a.t == c.t && a.kind == c.kind && a.index == c.index));
@@ -191,11 +185,11 @@ static void check_ties(rt_world_mode mode)
     CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0, 0, -2), rt_v3(2, 0, 0), rt_v3(0, 2, 0), m, NULL), RT_OK);
     CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
     rt_whit h;
-    const rt_ray in_plane = ray_of(rt_v3(-1, 1, -2), rt_v3(1, 0, 0));
+    const rt_ray in_plane = {rt_v3(-1, 1, -2), rt_v3(1, 0, 0)};
     CHECK_EQ_INT(rt_world_closest(w, &in_plane, 0, 0.001, INFINITY, &h), 0);
-    const rt_ray grazing = ray_of(rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -0.9e-8));
+    const rt_ray grazing = {rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -0.9e-8)};
     CHECK_EQ_INT(rt_world_closest(w, &grazing, 0, 0.001, INFINITY, &h), 0);
-    const rt_ray steeper = ray_of(rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -1.1e-8)); /* above 1e-8: a hit */
+    const rt_ray steeper = {rt_v3(0.5, 1, -1.99999999), rt_v3(1, 0, -1.1e-8)}; /* above 1e-8: a hit */
     CHECK_EQ_INT(rt_world_closest(w, &steeper, 0, 0.001, INFINITY, &h), 1);
     rt_world_free(w);
     rt_scene_free(&s);
