@@ -61,14 +61,20 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
 }
 
 /* Shadow-ray roulette (with the job's roulette): a shadow ray whose
- * light, were it unoccluded, would add less than this (luminance of
+ * light, were it unoccluded, would add less than a threshold (luminance of
  * throughput x albedo x emission x the BSDF over the light's density) is
- * traced with probability (that luminance / this), its light divided by
- * that probability: unbiased, and the faint vertices (deep in a path, in
- * book2-final's thin fog) spend fewer shadow rays. */
-#ifndef RT_NEE_SHADOW_KEEP
-#define RT_NEE_SHADOW_KEEP 0.05
-#endif
+ * traced with probability (that luminance / the threshold), its light
+ * divided by that probability: unbiased, and faint vertices spend fewer
+ * shadow rays. The thresholds, by CPU seconds x display-space MSE
+ * (sampling version 10, docs/SAMPLING.md): in media (isotropic vertices
+ * and path2.c's in-scattering: book2-final's thin fog, whose shadow rays
+ * are most of its shadow rays and mostly occluded) 0.05; at surfaces 0.005,
+ * since a surface's faint shadow rays are cheap and light the dark
+ * regions where the viewer sees the noise (book3-final's ceiling, lit only
+ * through the room: 0.05 there cost 1.25x the MSE at 8 spp, 256 x 256, for
+ * 3 % less time). */
+#define RT_NEE_SHADOW_KEEP_MEDIA 0.05
+#define RT_NEE_SHADOW_KEEP_SURFACE 0.005
 
 /* A lambertian vertex in a scene with sampling targets (lights.h: its
  * glass spheres) aims one in RT_NEE_AIM_SLOTS of its scattered directions
@@ -129,14 +135,14 @@ double rt_nee_scatter_pdf(const rt_renderer *r, rt_vec3 p, rt_vec3 n, double tim
 static double luma(rt_vec3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 /* The shadow-ray roulette's decision for a shadow ray whose light, were
- * it unoccluded, has luminance est, by u in [0, 1): the chance it is traced
- * with (1 without the job's roulette or above RT_NEE_SHADOW_KEEP), or 0
- * when it is not. */
-static double shadow_keep(const rt_renderer *r, double est, double u)
+ * it unoccluded, has luminance est, by u in [0, 1), under threshold lim:
+ * the chance it is traced with (1 without the job's roulette or from lim
+ * up), or 0 when it is not. */
+static double shadow_keep(const rt_renderer *r, double est, double u, double lim)
 {
-    if (!r->job.roulette || !(est < RT_NEE_SHADOW_KEEP))
+    if (!r->job.roulette || !(est < lim))
         return 1.0;
-    const double keep = est / RT_NEE_SHADOW_KEEP;
+    const double keep = est / lim;
     return u < keep ? keep : 0.0;
 }
 
@@ -181,7 +187,8 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_
     if (!(pdf_bsdf > 0.0)) /* outside a fuzzy metal's ball of directions */
         return none;
     const int aim = !iso && !(b->fuzz > 0.0) && RT_NEE_AIM_SLOTS && r->light_targets;
-    const double keep = shadow_keep(r, luma(weight) * ld.emit * pdf_bsdf / ld.pdf, ld.rest);
+    const double keep = shadow_keep(r, luma(weight) * ld.emit * pdf_bsdf / ld.pdf, ld.rest,
+                                    iso ? RT_NEE_SHADOW_KEEP_MEDIA : RT_NEE_SHADOW_KEEP_SURFACE);
     rt_whit h; /* rt_nee_closest's hit if nothing stands in front of the light */
     rt_vec3 light;
     if (keep == 0.0 || !shadow_light(r, &ray, ld.kind, ld.index, ld.material, 0.0, time, &h, &light, segments))
@@ -219,7 +226,7 @@ rt_vec3 rt_nee_toward(const rt_renderer *r, rt_vec3 x, const rt_light_point *lp,
     if (!(dist > 0.0) || facing == 0.0 || (lp->one_sided && facing > 0.0))
         return none; /* x in the light's plane, or behind a face that emits nothing toward it */
     const double g = fabs(facing) / (dist * d2); /* the cosine at the light over the squared distance */
-    const double keep = shadow_keep(r, luma(weight) * lp->emit * g, u);
+    const double keep = shadow_keep(r, luma(weight) * lp->emit * g, u, RT_NEE_SHADOW_KEEP_MEDIA);
     const rt_ray ray = {x, rt_v3_scale(d, 1.0 / dist)};
     rt_whit h;
     rt_vec3 light; /* none when the light's own near side, or another shape, stands in front of the point */

@@ -1,7 +1,8 @@
 /* test_lights.c - light sampling (lights.h, nee.h) is unbiased: a point
  * on a diffuse plane under a rectangular or a spherical emitter against
  * the closed form of its irradiance, by light sampling alone, BSDF sampling alone and MIS
- * (also with a faint emitter and the shadow-ray roulette); a fuzzy metal
+ * (also with a faint emitter and the shadow-ray roulette); which shadow
+ * rays that roulette leaves to chance at a surface; a fuzzy metal
  * plane under that rectangle by the three;
  * a white furnace whose walls, a sphere and a moving sphere emit, with a
  * white medium inside (every pixel's radiance is the walls'), also with
@@ -342,6 +343,60 @@ static void check_emitted(void)
     rt_scene_free(&s);
 }
 
+/* Which shadow rays the shadow-ray roulette (nee.c) leaves to chance:
+ * check_analytic's rectangle at radiance L over the plane (albedo 0.5),
+ * whose shadow rays' unoccluded light is 0.5 L times the BSDF over the
+ * light's density d^3 / 0.75, for a point at distance d in [1.118, 1.871]
+ * of the origin. A lambertian plane (cos / pi = 1 / (pi d)): 0.119 L / d^4,
+ * at L = 0.6 from 0.0058 to 0.046, above the surfaces' threshold (0.005),
+ * so the roulette traces every one (the same ray segments with it as
+ * without: the paths end at depth 2, before their own roulette); at L =
+ * 0.04 all below it, so it traces fewer. An isotropic one (1 / 4 pi, the
+ * media's threshold, 0.05): 0.0298 L / d^3, at L = 2 from 0.0089 to 0.043,
+ * so fewer. */
+static void check_shadow_roulette(void)
+{
+    const struct {
+        int iso;
+        double L;
+        int all;
+    } cases[] = {{0, 0.6, 1}, {0, 0.04, 0}, {1, 2.0, 0}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        rt_scene s;
+        rt_scene_init(&s);
+        uint32_t plane, light;
+        const double L = cases[i].L;
+        const rt_vec3 half = rt_v3(0.5, 0.5, 0.5);
+        rt_material m = cases[i].iso ? rt_scene_isotropic(half) : rt_scene_lambertian(half),
+                    e = rt_scene_emitter(rt_v3(L, L, L), 0);
+        CHECK_EQ_INT(rt_scene_add_material(&s, &m, &plane), RT_OK);
+        CHECK_EQ_INT(rt_scene_add_material(&s, &e, &light), RT_OK);
+        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), plane, NULL),
+                     RT_OK);
+        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0.5, 1, -0.5), rt_v3(1, 0, 0), rt_v3(0, 0, 0.75), light, NULL),
+                     RT_OK);
+        s.background_kind = RT_BACKGROUND_COLOR;
+        s.background = rt_v3(0, 0, 0);
+        s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+        uint64_t segs[2] = {0, 0};
+        for (int roulette = 0; roulette <= 1; roulette++) {
+            rt_accel *a;
+            const rt_renderer r = renderer(&s, &a, 1, 1, 2, RT_LIGHT_MIS, roulette);
+            for (uint32_t k = 0; k < 20000; k++)
+                (void)rt_render_sample(&r, 0, 0, k, &segs[roulette]);
+            rt_accel_free(a);
+        }
+        fprintf(stderr, "shadow-ray roulette, %s plane, radiance %g: %llu ray segments without, %llu with\n",
+                cases[i].iso ? "isotropic" : "lambertian", L, (unsigned long long)segs[0],
+                (unsigned long long)segs[1]);
+        if (cases[i].all)
+            CHECK_EQ_INT(segs[1], segs[0]);
+        else
+            CHECK(segs[1] < segs[0] - 1000);
+        rt_scene_free(&s);
+    }
+}
+
 int main(void)
 {
     check_emitted();
@@ -349,6 +404,7 @@ int main(void)
         check_analytic(0, faint);
         check_analytic(1, faint);
     }
+    check_shadow_roulette();
     check_metal(0.3);
     check_metal(1.0);
     check_furnace(0, 1);
