@@ -115,6 +115,22 @@ static void check_analytic(int sphere, int faint)
     rt_scene_free(&s);
 }
 
+/* check_analytic's rectangle, facing down at radiance L (one-sided), over
+ * a plane of material `plane`, seen at the origin in a 1 x 1 image. */
+static void under_rectangle(rt_scene *s, rt_material plane, double L)
+{
+    rt_scene_init(s);
+    uint32_t floor, light;
+    rt_material e = rt_scene_emitter(rt_v3(L, L, L), 0);
+    CHECK_EQ_INT(rt_scene_add_material(s, &plane, &floor), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(s, &e, &light), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), floor, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(s, rt_v3(0.5, 1, -0.5), rt_v3(1, 0, 0), rt_v3(0, 0, 0.75), light, NULL), RT_OK);
+    s->background_kind = RT_BACKGROUND_COLOR;
+    s->background = rt_v3(0, 0, 0);
+    s->camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+}
+
 /* A fuzzy metal plane (albedo 0.8) under check_analytic's rectangle, seen
  * where it mirrors the rectangle: its metal vertex samples the light
  * (rt_warp_fuzz_pdf's density of its scattered directions), so MIS and
@@ -124,16 +140,7 @@ static void check_analytic(int sphere, int faint)
 static void check_metal(double fuzz)
 {
     rt_scene s;
-    rt_scene_init(&s);
-    uint32_t floor, light;
-    rt_material m = rt_scene_metal(rt_v3(0.8, 0.8, 0.8), fuzz), e = rt_scene_emitter(rt_v3(4, 4, 4), 0);
-    CHECK_EQ_INT(rt_scene_add_material(&s, &m, &floor), RT_OK);
-    CHECK_EQ_INT(rt_scene_add_material(&s, &e, &light), RT_OK);
-    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), floor, NULL), RT_OK);
-    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0.5, 1, -0.5), rt_v3(1, 0, 0), rt_v3(0, 0, 0.75), light, NULL), RT_OK);
-    s.background_kind = RT_BACKGROUND_COLOR;
-    s.background = rt_v3(0, 0, 0);
-    s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+    under_rectangle(&s, rt_scene_metal(rt_v3(0.8, 0.8, 0.8), fuzz), 4);
     stat st[3];
     for (uint32_t mode = RT_LIGHT_MIS; mode <= RT_LIGHT_NEE_ONLY; mode++) {
         rt_accel *a;
@@ -362,22 +369,10 @@ static void check_shadow_roulette(void)
         int all;
     } cases[] = {{0, 0.6, 1}, {0, 0.04, 0}, {1, 2.0, 0}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        rt_scene s;
-        rt_scene_init(&s);
-        uint32_t plane, light;
         const double L = cases[i].L;
         const rt_vec3 half = rt_v3(0.5, 0.5, 0.5);
-        rt_material m = cases[i].iso ? rt_scene_isotropic(half) : rt_scene_lambertian(half),
-                    e = rt_scene_emitter(rt_v3(L, L, L), 0);
-        CHECK_EQ_INT(rt_scene_add_material(&s, &m, &plane), RT_OK);
-        CHECK_EQ_INT(rt_scene_add_material(&s, &e, &light), RT_OK);
-        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-10, 0, -10), rt_v3(0, 0, 20), rt_v3(20, 0, 0), plane, NULL),
-                     RT_OK);
-        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(0.5, 1, -0.5), rt_v3(1, 0, 0), rt_v3(0, 0, 0.75), light, NULL),
-                     RT_OK);
-        s.background_kind = RT_BACKGROUND_COLOR;
-        s.background = rt_v3(0, 0, 0);
-        s.camera = (rt_camera_desc){rt_v3(-1, 1, 0), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 1e-4, 0.0, 1.0, RT_PIXELS_BOOK2};
+        rt_scene s;
+        under_rectangle(&s, cases[i].iso ? rt_scene_isotropic(half) : rt_scene_lambertian(half), L);
         uint64_t segs[2] = {0, 0};
         for (int roulette = 0; roulette <= 1; roulette++) {
             rt_accel *a;
