@@ -6,6 +6,12 @@ segment_rate() { sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$1";
 # median: of the numbers on standard input, one per line (the mean of the
 # middle two for an even count).
 median() { sort -g | awk '{v[NR] = $1} END {print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2}'; }
+# display_rmse REF IMG: display-space per-pixel RMSE (gamma 2, 0-255) of IMG
+# against REF (tools/compare_images.py, Debian's python3 for numpy and PIL).
+display_rmse() {
+    /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/compare_images.py" --ref "$1" --block 1 x="$2" |
+        awk '$1 == "x" {print $NF}'
+}
 # ratio A B: A / B with three decimals.
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.3f", a / b}'; }
 

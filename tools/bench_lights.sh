@@ -43,7 +43,6 @@ while [ $# -gt 0 ]; do
     esac
     shift
 done
-PY=/usr/bin/python3 # numpy and PIL
 W=$(mktemp -d)
 trap 'rm -rf "$W"' EXIT
 load() { echo "# load average: $(cut -d' ' -f1-3 /proc/loadavg)"; }
@@ -63,8 +62,6 @@ ours() {
     shift
     timed /dev/null "$BIN" --width "$SIZE" --height "$SIZE" --texture-dir "$TEX" -q -o "$out" "$@"
 }
-# rmse REF IMG: display-space per-pixel RMSE of IMG against REF.
-rmse() { "$PY" "$ROOT/tools/compare_images.py" --ref "$1" --block 1 x="$2" | awk '$1 == "x" {print $NF}'; }
 le() { awk -v a="$1" -v b="$2" 'BEGIN {exit !(a <= b)}'; }
 # reach E0 T0 E1 T1 E: the time at which the error reaches E, between
 # (E0, T0) and (E1, T1), E1 <= E < E0 (log-log; T1 when there is no E0).
@@ -81,7 +78,7 @@ bracket() {
     shift
     while :; do
         ours "$W/l.png" -s $spp "$@" >/dev/null
-        el=$(rmse "$W/ref.png" "$W/l.png")
+        el=$(display_rmse "$W/ref.png" "$W/l.png")
         if le "$el" "$eref" || [ $spp -ge 4096 ]; then
             echo "$s0 $e0 $spp $el"
             return
@@ -126,7 +123,7 @@ fi
 for s in $SCENES; do
     ours "$W/ref.png" --scene "$s" -s "$REF" -j 2 >/dev/null
     ours "$W/b.png" --scene "$s" -s 1024 -j 1 --no-light-sampling >/dev/null
-    compare "$s" "$(rmse "$W/ref.png" "$W/b.png")" \
+    compare "$s" "$(display_rmse "$W/ref.png" "$W/b.png")" \
         "ours \"\$W/b.png\" --scene $s -s 1024 -j 1 --no-light-sampling" --scene "$s" -j 1
 done
 load
@@ -140,5 +137,5 @@ echo "# book3-final, $SIZE x $SIZE, one core each; reference: rt-mpi, $REF spp (
     "interleaved rounds"
 echo "# the book's rest, $BOOK_SPP spp | rt-mpi -j 1: the two sample counts around that RMSE, the time" \
     "interpolated to it | time ratio per core"
-compare "book's rest" "$(rmse "$W/ref.png" "$W/book.ppm")" "$BOOKCMD" --scene book3-final -j 1
+compare "book's rest" "$(display_rmse "$W/ref.png" "$W/book.ppm")" "$BOOKCMD" --scene book3-final -j 1
 load

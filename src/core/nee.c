@@ -72,7 +72,7 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
  * since a surface's faint shadow rays are cheap and light the dark
  * regions where the viewer sees the noise (book3-final's ceiling, lit only
  * through the room: 0.05 there cost 1.25x the MSE at 8 spp, 256 x 256, for
- * 3 % less time). */
+ * 7 % less time). */
 #define RT_NEE_SHADOW_KEEP_MEDIA 0.05
 #define RT_NEE_SHADOW_KEEP_SURFACE 0.005
 

@@ -76,8 +76,8 @@ double rt_nee_weight(const rt_renderer *r, const rt_ray *ray, double pdf_bsdf, c
  * media between, times the cosine at the light over the squared distance;
  * zero when anything (the light's own near side too) stands between.
  * Under the job's roulette a faint one is traced with a probability
- * (rt_nee_direct's rule), decided by u in [0, 1). Adds the shadow ray,
- * when traced, to *segments. */
+ * (rt_nee_direct's rule, at the media's threshold), decided by u in
+ * [0, 1). Adds the shadow ray, when traced, to *segments. */
 rt_vec3 rt_nee_toward(const rt_renderer *r, rt_vec3 x, const rt_light_point *lp, rt_vec3 weight, double u,
                       double time, uint64_t *segments);
 
