@@ -52,7 +52,9 @@ static struct {
     int n;
 } Q;
 
-static int spp = 16, max_depth = 40;
+#define SPP_LOG2 4 /* samples a pixel: a power of two, refill8 divides by a shift */
+#define SPP (1 << SPP_LOG2)
+#define MAX_DEPTH 40
 static int64_t img[W * H * 3]; /* each sample's light in units of 2^-32, so any order sums the same */
 static v3 cam, pix00, du, dv;
 static long segments;
@@ -116,10 +118,10 @@ static inline uint64_t bounce_bits(uint64_t job, uint64_t depth)
     return mix64(job * 0x9e3779b97f4a7c15ULL + depth * 0xd1b54a32d192ed03ULL);
 }
 
-/* the camera ray of job j (pixel j / spp), its jitter from a hash */
+/* the camera ray of job j (pixel j / SPP), its jitter from a hash */
 static v3 camera_dir(uint32_t j)
 {
-    const uint32_t pix = j / spp, px = pix % W, py = pix / W;
+    const uint32_t pix = j / SPP, px = pix % W, py = pix / W;
     const uint64_t r = mix64((uint64_t)j * 0x9e3779b97f4a7c15ULL + 12345);
     const double fx = (uint32_t)r * 0x1.0p-32 - 0.5, fy = (uint32_t)(r >> 32) * 0x1.0p-32 - 0.5;
     return sub(add(pix00, add(scl(du, px + fx), scl(dv, py + fy))), cam);
@@ -155,7 +157,7 @@ static uint64_t fingerprint;
 
 static void add_light(uint32_t job, double r, double g, double b)
 {
-    int64_t *px = &img[job / spp * 3];
+    int64_t *px = &img[job / SPP * 3];
     px[0] += (int64_t)(r * 0x1.0p32), px[1] += (int64_t)(g * 0x1.0p32), px[2] += (int64_t)(b * 0x1.0p32);
 }
 
@@ -183,7 +185,7 @@ static int closest_scalar(v3 o, v3 d, double *tbest)
 
 static void render_scalar(void)
 {
-    for (uint32_t j = 0; j < (uint32_t)(W * H * spp); j++) {
+    for (uint32_t j = 0; j < (uint32_t)(W * H * SPP); j++) {
         v3 o = cam, d = camera_dir(j), thr = mk(1, 1, 1);
         for (int depth = 1;; depth++) {
             segments++;
@@ -200,7 +202,7 @@ static void render_scalar(void)
                 add_light(j, thr.x * Q.em[id], thr.y * Q.em[id], thr.z * Q.em[id]);
                 break;
             }
-            if (depth >= max_depth)
+            if (depth >= MAX_DEPTH)
                 break;
             v3 n = mk(Q.nx[id], Q.ny[id], Q.nz[id]);
             n = dot(n, d) < 0 ? n : scl(n, -1);
@@ -300,12 +302,12 @@ static rt_sampler lane_smp[8];
 
 static void lane_sampler(int l, uint32_t j)
 {
-    const uint32_t pix = j / spp;
+    const uint32_t pix = j / SPP;
     if (!pixel_made[pix]) {
         rt_sampler_for_pixel(&pixels[pix], RT_SAMPLER_SOBOL, mix64(pix + 42u));
         pixel_made[pix] = 1;
     }
-    lane_smp[l] = rt_sampler_start(&pixels[pix], j % spp);
+    lane_smp[l] = rt_sampler_start(&pixels[pix], j % SPP);
 }
 
 /* each continuing lane's bounce number */
@@ -344,7 +346,7 @@ static __mmask8 refill8(lanes *L, __mmask8 live, __mmask8 ended, uint32_t *next,
             lane_sampler(__builtin_ctz(m), jj++);
     }
     *next += k;
-    const __m512d pix = _mm512_cvtepi64_pd(_mm512_srli_epi64(j, 4)); /* spp 16 */
+    const __m512d pix = _mm512_cvtepi64_pd(_mm512_srli_epi64(j, SPP_LOG2));
     const __m512d py = _mm512_roundscale_pd(_mm512_mul_pd(_mm512_add_pd(pix, B(0.5)), B(1.0 / W)), _MM_FROUND_TO_NEG_INF);
     const __m512d px = _mm512_sub_pd(pix, _mm512_mul_pd(py, B(W)));
     const __m512i r = mix8(_mm512_add_epi64(_mm512_mullo_epi64(j, _mm512_set1_epi64(0x9e3779b97f4a7c15ULL)), _mm512_set1_epi64(12345)));
@@ -382,7 +384,7 @@ static void emit8(const lanes *L, __mmask8 light, __m512d em)
 
 static void render_lanes(int sobol)
 {
-    const uint32_t njobs = (uint32_t)(W * H * spp);
+    const uint32_t njobs = (uint32_t)(W * H * SPP);
     uint32_t next = 0;
     lanes L = {0};
     __mmask8 live = refill8(&L, 0xff, 0xff, &next, njobs, sobol);
@@ -406,7 +408,7 @@ static void render_lanes(int sobol)
         }
 #endif
         L.depth = _mm512_add_epi64(L.depth, _mm512_set1_epi64(1));
-        const __mmask8 cont = hit & (__mmask8)~light & _mm512_cmp_epi64_mask(L.depth, _mm512_set1_epi64(max_depth), _MM_CMPINT_LT);
+        const __mmask8 cont = hit & (__mmask8)~light & _mm512_cmp_epi64_mask(L.depth, _mm512_set1_epi64(MAX_DEPTH), _MM_CMPINT_LT);
         if (light)
             emit8(&L, light, em);
         /* the lambertian bounce: the normal facing the ray, plus a uniform direction */
@@ -460,12 +462,12 @@ int main(int argc, char **argv)
     double sum = 0;
     uint64_t hash = 0xcbf29ce484222325ULL; /* FNV-1a of the sums */
     for (int i = 0; i < W * H * 3; i++) {
-        sum += (double)img[i] * 0x1.0p-32 / spp;
+        sum += (double)img[i] * 0x1.0p-32 / SPP;
         for (int k = 0; k < 8; k++)
             hash = (hash ^ (uint8_t)((uint64_t)img[i] >> (8 * k))) * 0x100000001b3ULL;
     }
     printf("%s: %.4f s, %ld segments, %.2f ns a segment, %.3f segments a path, image mean %.6f, image hash %016llx",
-           which, sec, segments, sec / segments * 1e9, (double)segments / (W * H * spp), sum / (W * H * 3),
+           which, sec, segments, sec / segments * 1e9, (double)segments / (W * H * SPP), sum / (W * H * 3),
            (unsigned long long)hash);
 #ifdef PROBE_CHECK
     printf(", segments' fingerprint %016llx", (unsigned long long)fingerprint);
