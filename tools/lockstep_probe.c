@@ -7,15 +7,16 @@
  *   scalar   one path at a time, every quad tested in turn with the early
  *            exits of rt-mpi's quad test (world_internal.h's rt_quad_t);
  *   lanes    eight paths a register, every quad tested against eight rays
- *            at once (the same operations per lane), the shading and the
- *            refill of ended lanes in vector code; its numbers from a hash;
+ *            at once (the same operations per lane), the lambertian
+ *            bounce (warp.h's, its operations per lane) and the refill of
+ *            ended lanes in vector code; its numbers from a hash;
  *   sobol    lanes, with each bounce's 2D number from rt-mpi's Sobol
  *            sampler (sampler.h), drawn lane by lane in scalar code.
  * scalar and lanes draw the same numbers and trace the same segments to the
  * bit: built with -DPROBE_CHECK, each prints a fingerprint of every hit (its
- * path, depth and t), and the two agree. Prints nanoseconds a ray segment for each. What it leaves out
- * of a real path loop: the exact-integer pixel sums, AOVs, statistics,
- * other shapes and materials, light sampling. tools/lockstep_probe.sh
+ * path, depth and t), and the two agree. Prints nanoseconds a ray segment
+ * for each. What it leaves out of a real path loop: rt-mpi's pixel sums,
+ * AOVs, statistics, other shapes and materials, light sampling. tools/lockstep_probe.sh
  * builds and runs it beside rt-mpi; docs/notes/experiments.md has the
  * numbers. Build: cc -O2 -march=x86-64-v4 -ffp-contract=off -Isrc/core
  * tools/lockstep_probe.c src/core/sampler.c -lm */
@@ -35,13 +36,13 @@
 #define TMIN 0.001
 #define PI 3.14159265358979323846
 
-typedef struct { double x, y, z; } v3;
-static v3 mk(double x, double y, double z) { return (v3){x, y, z}; }
-static v3 add(v3 a, v3 b) { return mk(a.x + b.x, a.y + b.y, a.z + b.z); }
-static v3 sub(v3 a, v3 b) { return mk(a.x - b.x, a.y - b.y, a.z - b.z); }
-static v3 scl(v3 a, double s) { return mk(a.x * s, a.y * s, a.z * s); }
-static double dot(v3 a, v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static v3 cross(v3 a, v3 b) { return mk(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x); }
+typedef rt_vec3 v3; /* vec.h, through sampler.h */
+#define mk rt_v3
+#define add rt_v3_add
+#define sub rt_v3_sub
+#define scl rt_v3_scale
+#define dot rt_v3_dot
+#define cross rt_v3_cross
 
 /* the quads, struct of arrays: plane (n, d), corner q, edge duals ea, eb
  * (a = (p - q) . ea, b = (p - q) . eb), albedo, emission */
@@ -127,27 +128,6 @@ static v3 camera_dir(uint32_t j)
     return sub(add(pix00, add(scl(du, px + fx), scl(dv, py + fy))), cam);
 }
 
-/* sin and cos polynomials on [-pi/2, pi/2] (Taylor) */
-static const double ks[] = {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6};
-static const double kc[] = {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -0.5};
-
-/* cos and sin of 2 pi f, f in (0, 1): the angle shifted to [-pi, pi),
- * folded into [-pi/2, pi/2]; cossin8's operations, one lane */
-static void cossin1(double f, double *c, double *s)
-{
-    const double x = f * (2 * PI) - PI, ax = fabs(x);
-    const int big = ax > PI / 2;
-    const double xr = big ? copysign(PI - ax, x) : x, x2 = xr * xr;
-    double ps = ks[0], pc = kc[0];
-    for (int i = 1; i < 5; i++)
-        ps = ps * x2 + ks[i];
-    for (int i = 1; i < 6; i++)
-        pc = pc * x2 + kc[i];
-    const double sn = xr + ps * x2 * xr, cs = pc * x2 + 1;
-    *c = 0 - (big ? 0 - cs : cs); /* undo the shift by pi */
-    *s = 0 - sn;
-}
-
 /* PROBE_CHECK: an order-free fingerprint of every hit (its path, depth and
  * t's bits), so that scalar and lanes can be shown to trace the same
  * segments to the bit; off for timing */
@@ -207,11 +187,7 @@ static void render_scalar(void)
             v3 n = mk(Q.nx[id], Q.ny[id], Q.nz[id]);
             n = dot(n, d) < 0 ? n : scl(n, -1);
             o = add(o, scl(d, t));
-            const uint64_t r = bounce_bits(j, depth);
-            const double z = 1 - 2 * (((double)(r >> 32) + 0.5) * 0x1.0p-32), rho = sqrt(1 - z * z);
-            double c, sn;
-            cossin1(((double)(uint32_t)r + 0.5) * 0x1.0p-32, &c, &sn);
-            d = mk(n.x + rho * c, n.y + rho * sn, n.z + z);
+            d = rt_warp_lambert(bounce_bits(j, depth), n); /* rt-mpi's lambertian bounce (warp.h) */
             thr = mk(thr.x * Q.r[id], thr.y * Q.g[id], thr.z * Q.b[id]);
         }
     }
@@ -262,29 +238,41 @@ static inline __m512d closest8(const lanes *L, __m512i *id)
     return best;
 }
 
-/* 32-bit fractions to doubles in (0, 1), the middle of their intervals */
-static inline __m512d unit8(__m512i u32)
+/* rt_warp_lambert (warp.h, sample.h's rt_sample_unit_vector_bits) in
+ * eight lanes, the same operations in the same order: z from the high 32
+ * bits, the azimuth's quarter turn and its rest from the low 32, the sine
+ * and cosine polynomials in Horner form; n where n plus the direction is
+ * near zero. */
+static inline void lambert8(__m512i u, __m512d nx, __m512d ny, __m512d nz, __m512d *dx, __m512d *dy, __m512d *dz)
 {
-    return _mm512_mul_pd(_mm512_add_pd(_mm512_cvtepu64_pd(u32), B(0.5)), B(0x1.0p-32));
-}
-
-/* cossin1 in eight lanes */
-static inline void cossin8(__m512d f, __m512d *c, __m512d *s)
-{
-    const __m512d x = _mm512_sub_pd(_mm512_mul_pd(f, B(2 * PI)), B(PI)), ax = _mm512_abs_pd(x);
-    const __mmask8 big = _mm512_cmp_pd_mask(ax, B(PI / 2), _CMP_GT_OQ);
-    const __m512d xr = _mm512_mask_blend_pd(big, x, _mm512_or_pd(_mm512_sub_pd(B(PI), ax), _mm512_and_pd(x, B(-0.0))));
-    const __m512d x2 = _mm512_mul_pd(xr, xr);
+    const __m512d z = _mm512_add_pd(_mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepu64_pd(_mm512_srli_epi64(u, 32)), B(0x1.0p-31)), B(1.0)),
+                                    B(0x1.0p-32));
+    const __m512d rho = _mm512_sqrt_pd(_mm512_mul_pd(_mm512_sub_pd(B(1.0), z), _mm512_add_pd(B(1.0), z)));
+    const __m512i q = _mm512_and_si512(u, _mm512_set1_epi64(0xffffffff));
+    const __m512i quarter = _mm512_srli_epi64(_mm512_and_si512(_mm512_add_epi64(q, _mm512_set1_epi64(0x20000000)),
+                                                               _mm512_set1_epi64(0xffffffff)), 30);
+    const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(_mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30)), 32), 32);
+    const __m512d a = _mm512_mul_pd(_mm512_cvtepi64_pd(rest), B(6.28318530717958647692 / 4294967296.0)), a2 = _mm512_mul_pd(a, a);
+    static const double ks[] = {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1.0};
+    static const double kc[] = {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -1.0 / 2, 1.0};
     __m512d ps = B(ks[0]), pc = B(kc[0]);
-    for (int i = 1; i < 5; i++)
-        ps = _mm512_add_pd(_mm512_mul_pd(ps, x2), B(ks[i]));
     for (int i = 1; i < 6; i++)
-        pc = _mm512_add_pd(_mm512_mul_pd(pc, x2), B(kc[i]));
-    const __m512d sn = _mm512_add_pd(xr, _mm512_mul_pd(_mm512_mul_pd(ps, x2), xr));
-    __m512d cs = _mm512_add_pd(_mm512_mul_pd(pc, x2), B(1));
-    cs = _mm512_mask_sub_pd(cs, big, _mm512_setzero_pd(), cs);
-    *c = _mm512_sub_pd(_mm512_setzero_pd(), cs); /* undo the shift by pi */
-    *s = _mm512_sub_pd(_mm512_setzero_pd(), sn);
+        ps = _mm512_add_pd(B(ks[i]), _mm512_mul_pd(a2, ps));
+    for (int i = 1; i < 7; i++)
+        pc = _mm512_add_pd(B(kc[i]), _mm512_mul_pd(a2, pc));
+    const __m512d sa = _mm512_mul_pd(a, ps), ca = pc;
+    const __m512d qcos = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(1, 0, -1, 0, 0, 0, 0, 0));
+    const __m512d qsin = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(0, 1, 0, -1, 0, 0, 0, 0));
+    const __m512d c = _mm512_sub_pd(_mm512_mul_pd(ca, qcos), _mm512_mul_pd(sa, qsin));
+    const __m512d s = _mm512_add_pd(_mm512_mul_pd(sa, qcos), _mm512_mul_pd(ca, qsin));
+    *dx = _mm512_add_pd(nx, _mm512_mul_pd(rho, c));
+    *dy = _mm512_add_pd(ny, _mm512_mul_pd(rho, s));
+    *dz = _mm512_add_pd(nz, z);
+    const __m512d e = B(1e-8);
+    const __mmask8 zero = _mm512_cmp_pd_mask(_mm512_abs_pd(*dx), e, _CMP_LT_OQ) &
+                          _mm512_cmp_pd_mask(_mm512_abs_pd(*dy), e, _CMP_LT_OQ) &
+                          _mm512_cmp_pd_mask(_mm512_abs_pd(*dz), e, _CMP_LT_OQ);
+    *dx = _mm512_mask_mov_pd(*dx, zero, nx), *dy = _mm512_mask_mov_pd(*dy, zero, ny), *dz = _mm512_mask_mov_pd(*dz, zero, nz);
 }
 
 static inline __m512i mix8(__m512i z)
@@ -321,7 +309,9 @@ static inline __m512i bounce8(const lanes *L, __mmask8 cont, int sobol)
     _mm512_store_si512(dep, L->depth);
     for (__mmask8 m = cont; m; m &= m - 1) {
         const int l = __builtin_ctz(m);
-        rt_sampler_seek(&lane_smp[l], 4u + 14u * (uint32_t)dep[l] + 2u);
+        /* the vertex that ends segment dep - 1: trace2's brute-force layout */
+        rt_sampler_seek(&lane_smp[l], RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_BOUNCE_DIMS * (uint32_t)(dep[l] - 1) +
+                                          RT_SAMPLER2_SCATTER);
         u[l] = rt_sampler_get2d(&lane_smp[l]);
     }
     return _mm512_load_si512(u);
@@ -419,14 +409,7 @@ static void render_lanes(int sobol)
         L.ox = _mm512_add_pd(L.ox, _mm512_mul_pd(t, L.dx));
         L.oy = _mm512_add_pd(L.oy, _mm512_mul_pd(t, L.dy));
         L.oz = _mm512_add_pd(L.oz, _mm512_mul_pd(t, L.dz));
-        const __m512i r = bounce8(&L, cont, sobol);
-        const __m512d z = _mm512_sub_pd(B(1), _mm512_mul_pd(unit8(_mm512_srli_epi64(r, 32)), B(2)));
-        const __m512d rho = _mm512_sqrt_pd(_mm512_sub_pd(B(1), _mm512_mul_pd(z, z)));
-        __m512d c, s;
-        cossin8(unit8(_mm512_and_si512(r, _mm512_set1_epi64(0xffffffffULL))), &c, &s);
-        L.dx = _mm512_add_pd(nx, _mm512_mul_pd(rho, c));
-        L.dy = _mm512_add_pd(ny, _mm512_mul_pd(rho, s));
-        L.dz = _mm512_add_pd(nz, z);
+        lambert8(bounce8(&L, cont, sobol), nx, ny, nz, &L.dx, &L.dy, &L.dz);
         L.tr = _mm512_mul_pd(L.tr, _mm512_i64gather_pd(idc, Q.r, 8));
         L.tg = _mm512_mul_pd(L.tg, _mm512_i64gather_pd(idc, Q.g, 8));
         L.tb = _mm512_mul_pd(L.tb, _mm512_i64gather_pd(idc, Q.b, 8));
