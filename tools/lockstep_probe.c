@@ -5,7 +5,8 @@
  * the same scene (the book's: five walls, the light, two rotated boxes:
  * 18 quads, lambertian, the light two-sided), the same camera and depth:
  *   scalar   one path at a time, every quad tested in turn with the early
- *            exits of rt-mpi's quad test (world_internal.h's rt_quad_t);
+ *            exits of rt-mpi's quad test (world_internal.h's rt_quad_t),
+ *            the bounce rt-mpi's own (warp.h's rt_warp_lambert);
  *   lanes    eight paths a register, every quad tested against eight rays
  *            at once (the same operations per lane), the lambertian
  *            bounce (warp.h's, its operations per lane) and the refill of
@@ -16,9 +17,9 @@
  * bit: built with -DPROBE_CHECK, each prints a fingerprint of every hit (its
  * path, depth and t), and the two agree. Prints nanoseconds a ray segment
  * for each. What it leaves out of a real path loop: rt-mpi's pixel sums,
- * AOVs, statistics, other shapes and materials, light sampling. tools/lockstep_probe.sh
- * builds and runs it beside rt-mpi; docs/notes/experiments.md has the
- * numbers. Build: cc -O2 -march=x86-64-v4 -ffp-contract=off -Isrc/core
+ * AOVs, statistics, other shapes and materials, light sampling.
+ * tools/lockstep_probe.sh builds and runs it beside rt-mpi;
+ * docs/notes/experiments.md has the numbers. Build: cc -O2 -march=x86-64-v4 -ffp-contract=off -Isrc/core
  * tools/lockstep_probe.c src/core/sampler.c -lm */
 #include <immintrin.h>
 #include <math.h>
@@ -36,14 +37,6 @@
 #define TMIN 0.001
 #define PI 3.14159265358979323846
 
-typedef rt_vec3 v3; /* vec.h, through sampler.h */
-#define mk rt_v3
-#define add rt_v3_add
-#define sub rt_v3_sub
-#define scl rt_v3_scale
-#define dot rt_v3_dot
-#define cross rt_v3_cross
-
 /* the quads, struct of arrays: plane (n, d), corner q, edge duals ea, eb
  * (a = (p - q) . ea, b = (p - q) . eb), albedo, emission */
 static struct {
@@ -57,54 +50,58 @@ static struct {
 #define SPP (1 << SPP_LOG2)
 #define MAX_DEPTH 40
 static int64_t img[W * H * 3]; /* each sample's light in units of 2^-32, so any order sums the same */
-static v3 cam, pix00, du, dv;
+static rt_vec3 cam, pix00, du, dv;
 static long segments;
 
-static void add_quad(v3 q, v3 u, v3 v, v3 col, double emit)
+static void add_quad(rt_vec3 q, rt_vec3 u, rt_vec3 v, rt_vec3 col, double emit)
 {
-    const v3 n = cross(u, v), w = scl(n, 1.0 / dot(n, n)), nn = scl(n, 1.0 / sqrt(dot(n, n)));
-    const v3 ea = cross(v, w), eb = cross(w, u);
+    const rt_vec3 n = rt_v3_cross(u, v), w = rt_v3_scale(n, 1.0 / rt_v3_dot(n, n));
+    const rt_vec3 nn = rt_v3_scale(n, 1.0 / sqrt(rt_v3_dot(n, n)));
+    const rt_vec3 ea = rt_v3_cross(v, w), eb = rt_v3_cross(w, u);
     const int i = Q.n++;
-    Q.nx[i] = nn.x, Q.ny[i] = nn.y, Q.nz[i] = nn.z, Q.d[i] = dot(nn, q);
+    Q.nx[i] = nn.x, Q.ny[i] = nn.y, Q.nz[i] = nn.z, Q.d[i] = rt_v3_dot(nn, q);
     Q.qx[i] = q.x, Q.qy[i] = q.y, Q.qz[i] = q.z;
     Q.ax[i] = ea.x, Q.ay[i] = ea.y, Q.az[i] = ea.z, Q.bx[i] = eb.x, Q.by[i] = eb.y, Q.bz[i] = eb.z;
     Q.r[i] = col.x, Q.g[i] = col.y, Q.b[i] = col.z, Q.em[i] = emit;
 }
 
 /* p rotated about y by deg, then moved by t when it is a point */
-static v3 place(v3 p, double deg, v3 t, int point)
+static rt_vec3 place(rt_vec3 p, double deg, rt_vec3 t, int point)
 {
     const double th = deg * PI / 180, c = cos(th), s = sin(th);
-    const v3 r = mk(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
-    return point ? add(r, t) : r;
+    const rt_vec3 r = rt_v3(c * p.x + s * p.z, p.y, -s * p.x + c * p.z);
+    return point ? rt_v3_add(r, t) : r;
 }
 
-static void add_box(v3 hi, double deg, v3 t, v3 col)
+static void add_box(rt_vec3 hi, double deg, rt_vec3 t, rt_vec3 col)
 {
-    const v3 dx = mk(hi.x, 0, 0), dy = mk(0, hi.y, 0), dz = mk(0, 0, hi.z);
-    const v3 c[6] = {mk(0, 0, hi.z), mk(hi.x, 0, hi.z), mk(hi.x, 0, 0), mk(0, 0, 0), mk(0, hi.y, hi.z), mk(0, 0, 0)};
-    const v3 u[6] = {dx, scl(dz, -1), scl(dx, -1), dz, dx, dx}, v[6] = {dy, dy, dy, dy, scl(dz, -1), dz};
+    const rt_vec3 dx = rt_v3(hi.x, 0, 0), dy = rt_v3(0, hi.y, 0), dz = rt_v3(0, 0, hi.z);
+    const rt_vec3 c[6] = {rt_v3(0, 0, hi.z), rt_v3(hi.x, 0, hi.z), rt_v3(hi.x, 0, 0),
+                          rt_v3(0, 0, 0),    rt_v3(0, hi.y, hi.z), rt_v3(0, 0, 0)};
+    const rt_vec3 u[6] = {dx, rt_v3_scale(dz, -1), rt_v3_scale(dx, -1), dz, dx, dx};
+    const rt_vec3 v[6] = {dy, dy, dy, dy, rt_v3_scale(dz, -1), dz};
     for (int i = 0; i < 6; i++)
         add_quad(place(c[i], deg, t, 1), place(u[i], deg, t, 0), place(v[i], deg, t, 0), col, 0);
 }
 
 static void cornell(void)
 {
-    const v3 red = mk(.65, .05, .05), white = mk(.73, .73, .73), green = mk(.12, .45, .15);
-    add_quad(mk(555, 0, 0), mk(0, 555, 0), mk(0, 0, 555), green, 0);
-    add_quad(mk(0, 0, 0), mk(0, 555, 0), mk(0, 0, 555), red, 0);
-    add_quad(mk(343, 554, 332), mk(-130, 0, 0), mk(0, 0, -105), mk(0, 0, 0), 15);
-    add_quad(mk(0, 0, 0), mk(555, 0, 0), mk(0, 0, 555), white, 0);
-    add_quad(mk(555, 555, 555), mk(-555, 0, 0), mk(0, 0, -555), white, 0);
-    add_quad(mk(0, 0, 555), mk(555, 0, 0), mk(0, 555, 0), white, 0);
-    add_box(mk(165, 330, 165), 15, mk(265, 0, 295), white);
-    add_box(mk(165, 165, 165), -18, mk(130, 0, 65), white);
+    const rt_vec3 red = rt_v3(.65, .05, .05), white = rt_v3(.73, .73, .73), green = rt_v3(.12, .45, .15);
+    add_quad(rt_v3(555, 0, 0), rt_v3(0, 555, 0), rt_v3(0, 0, 555), green, 0);
+    add_quad(rt_v3(0, 0, 0), rt_v3(0, 555, 0), rt_v3(0, 0, 555), red, 0);
+    add_quad(rt_v3(343, 554, 332), rt_v3(-130, 0, 0), rt_v3(0, 0, -105), rt_v3(0, 0, 0), 15);
+    add_quad(rt_v3(0, 0, 0), rt_v3(555, 0, 0), rt_v3(0, 0, 555), white, 0);
+    add_quad(rt_v3(555, 555, 555), rt_v3(-555, 0, 0), rt_v3(0, 0, -555), white, 0);
+    add_quad(rt_v3(0, 0, 555), rt_v3(555, 0, 0), rt_v3(0, 555, 0), white, 0);
+    add_box(rt_v3(165, 330, 165), 15, rt_v3(265, 0, 295), white);
+    add_box(rt_v3(165, 165, 165), -18, rt_v3(130, 0, 65), white);
     /* the book's camera: from (278, 278, -800) towards +z, vfov 40, square */
     const double focal = 800, h = 2 * tan(20 * PI / 180) * focal;
-    cam = mk(278, 278, -800);
-    du = mk(-h / W, 0, 0);
-    dv = mk(0, -h / H, 0);
-    pix00 = add(sub(add(cam, mk(0, 0, focal)), mk(-h / 2, -h / 2, 0)), scl(add(du, dv), 0.5));
+    cam = rt_v3(278, 278, -800);
+    du = rt_v3(-h / W, 0, 0);
+    dv = rt_v3(0, -h / H, 0);
+    const rt_vec3 corner = rt_v3_sub(rt_v3_add(cam, rt_v3(0, 0, focal)), rt_v3(-h / 2, -h / 2, 0));
+    pix00 = rt_v3_add(corner, rt_v3_scale(rt_v3_add(du, dv), 0.5));
 }
 
 static inline uint64_t mix64(uint64_t z)
@@ -120,12 +117,12 @@ static inline uint64_t bounce_bits(uint64_t job, uint64_t depth)
 }
 
 /* the camera ray of job j (pixel j / SPP), its jitter from a hash */
-static v3 camera_dir(uint32_t j)
+static rt_vec3 camera_dir(uint32_t j)
 {
     const uint32_t pix = j / SPP, px = pix % W, py = pix / W;
     const uint64_t r = mix64((uint64_t)j * 0x9e3779b97f4a7c15ULL + 12345);
     const double fx = (uint32_t)r * 0x1.0p-32 - 0.5, fy = (uint32_t)(r >> 32) * 0x1.0p-32 - 0.5;
-    return sub(add(pix00, add(scl(du, px + fx), scl(dv, py + fy))), cam);
+    return rt_v3_sub(rt_v3_add(pix00, rt_v3_add(rt_v3_scale(du, px + fx), rt_v3_scale(dv, py + fy))), cam);
 }
 
 /* PROBE_CHECK: an order-free fingerprint of every hit (its path, depth and
@@ -143,7 +140,7 @@ static void add_light(uint32_t job, double r, double g, double b)
 
 /* ---- one path at a time ---------------------------------------------------- */
 
-static int closest_scalar(v3 o, v3 d, double *tbest)
+static int closest_scalar(rt_vec3 o, rt_vec3 d, double *tbest)
 {
     double best = INFINITY;
     int id = -1;
@@ -166,7 +163,7 @@ static int closest_scalar(v3 o, v3 d, double *tbest)
 static void render_scalar(void)
 {
     for (uint32_t j = 0; j < (uint32_t)(W * H * SPP); j++) {
-        v3 o = cam, d = camera_dir(j), thr = mk(1, 1, 1);
+        rt_vec3 o = cam, d = camera_dir(j), thr = rt_v3(1, 1, 1);
         for (int depth = 1;; depth++) {
             segments++;
             double t;
@@ -184,11 +181,11 @@ static void render_scalar(void)
             }
             if (depth >= MAX_DEPTH)
                 break;
-            v3 n = mk(Q.nx[id], Q.ny[id], Q.nz[id]);
-            n = dot(n, d) < 0 ? n : scl(n, -1);
-            o = add(o, scl(d, t));
+            rt_vec3 n = rt_v3(Q.nx[id], Q.ny[id], Q.nz[id]);
+            n = rt_v3_dot(n, d) < 0 ? n : rt_v3_scale(n, -1);
+            o = rt_v3_add(o, rt_v3_scale(d, t));
             d = rt_warp_lambert(bounce_bits(j, depth), n); /* rt-mpi's lambertian bounce (warp.h) */
-            thr = mk(thr.x * Q.r[id], thr.y * Q.g[id], thr.z * Q.b[id]);
+            thr = rt_v3(thr.x * Q.r[id], thr.y * Q.g[id], thr.z * Q.b[id]);
         }
     }
 }
@@ -201,6 +198,7 @@ typedef struct {
 } lanes;
 
 #define B(x) _mm512_set1_pd(x)
+#define I(x) _mm512_set1_epi64((long long)(x))
 
 /* the nearest quad of eight rays: rt_quad_t's operations per lane, the
  * lowest quad on exact ties; every compare folded into one min so that the
@@ -226,10 +224,12 @@ static inline __m512d closest8(const lanes *L, __m512i *id)
         /* a, b in [0, 1], t - TMIN and |den| - 1e-8 in one min (where den
          * is below 1e-8 its own term decides: a NaN a or b makes min return
          * its other operand, never a false pass), t > TMIN apart */
-        const __m512d in = _mm512_min_pd(_mm512_min_pd(a, b), _mm512_min_pd(_mm512_sub_pd(B(1), a), _mm512_sub_pd(B(1), b)));
+        const __m512d in =
+            _mm512_min_pd(_mm512_min_pd(a, b), _mm512_min_pd(_mm512_sub_pd(B(1), a), _mm512_sub_pd(B(1), b)));
         const __m512d ok = _mm512_min_pd(_mm512_min_pd(in, _mm512_sub_pd(t, B(TMIN))),
                                          _mm512_sub_pd(_mm512_abs_pd(den), B(1e-8)));
-        const __mmask8 m = _mm512_mask_cmp_pd_mask(_mm512_cmp_pd_mask(t, B(TMIN), _CMP_GT_OQ), ok, _mm512_setzero_pd(), _CMP_GE_OQ);
+        const __mmask8 beyond = _mm512_cmp_pd_mask(t, B(TMIN), _CMP_GT_OQ);
+        const __mmask8 m = _mm512_mask_cmp_pd_mask(beyond, ok, _mm512_setzero_pd(), _CMP_GE_OQ);
         const __m512d tm = _mm512_mask_mov_pd(B(INFINITY), m, t);
         near = _mm512_mask_mov_epi64(near, _mm512_cmp_pd_mask(tm, best, _CMP_LT_OQ), _mm512_set1_epi64(q));
         best = _mm512_min_pd(tm, best);
@@ -245,14 +245,16 @@ static inline __m512d closest8(const lanes *L, __m512i *id)
  * near zero. */
 static inline void lambert8(__m512i u, __m512d nx, __m512d ny, __m512d nz, __m512d *dx, __m512d *dy, __m512d *dz)
 {
-    const __m512d z = _mm512_add_pd(_mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepu64_pd(_mm512_srli_epi64(u, 32)), B(0x1.0p-31)), B(1.0)),
-                                    B(0x1.0p-32));
+    const __m512d hi = _mm512_cvtepu64_pd(_mm512_srli_epi64(u, 32));
+    const __m512d z = _mm512_add_pd(_mm512_sub_pd(_mm512_mul_pd(hi, B(0x1.0p-31)), B(1.0)), B(0x1.0p-32));
     const __m512d rho = _mm512_sqrt_pd(_mm512_mul_pd(_mm512_sub_pd(B(1.0), z), _mm512_add_pd(B(1.0), z)));
     const __m512i q = _mm512_and_si512(u, _mm512_set1_epi64(0xffffffff));
     const __m512i quarter = _mm512_srli_epi64(_mm512_and_si512(_mm512_add_epi64(q, _mm512_set1_epi64(0x20000000)),
                                                                _mm512_set1_epi64(0xffffffff)), 30);
-    const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(_mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30)), 32), 32);
-    const __m512d a = _mm512_mul_pd(_mm512_cvtepi64_pd(rest), B(6.28318530717958647692 / 4294967296.0)), a2 = _mm512_mul_pd(a, a);
+    const __m512i off = _mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30));
+    const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(off, 32), 32); /* its low 32 bits, signed */
+    const __m512d a = _mm512_mul_pd(_mm512_cvtepi64_pd(rest), B(6.28318530717958647692 / 4294967296.0));
+    const __m512d a2 = _mm512_mul_pd(a, a);
     static const double ks[] = {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1.0};
     static const double kc[] = {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -1.0 / 2, 1.0};
     __m512d ps = B(ks[0]), pc = B(kc[0]);
@@ -272,7 +274,9 @@ static inline void lambert8(__m512i u, __m512d nx, __m512d ny, __m512d nz, __m51
     const __mmask8 zero = _mm512_cmp_pd_mask(_mm512_abs_pd(*dx), e, _CMP_LT_OQ) &
                           _mm512_cmp_pd_mask(_mm512_abs_pd(*dy), e, _CMP_LT_OQ) &
                           _mm512_cmp_pd_mask(_mm512_abs_pd(*dz), e, _CMP_LT_OQ);
-    *dx = _mm512_mask_mov_pd(*dx, zero, nx), *dy = _mm512_mask_mov_pd(*dy, zero, ny), *dz = _mm512_mask_mov_pd(*dz, zero, nz);
+    *dx = _mm512_mask_mov_pd(*dx, zero, nx);
+    *dy = _mm512_mask_mov_pd(*dy, zero, ny);
+    *dz = _mm512_mask_mov_pd(*dz, zero, nz);
 }
 
 static inline __m512i mix8(__m512i z)
@@ -280,6 +284,13 @@ static inline __m512i mix8(__m512i z)
     z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), _mm512_set1_epi64(0xbf58476d1ce4e5b9ULL));
     z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), _mm512_set1_epi64(0x94d049bb133111ebULL));
     return _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
+}
+
+/* bounce_bits in eight lanes */
+static inline __m512i bounce_bits8(__m512i job, __m512i depth)
+{
+    return mix8(_mm512_add_epi64(_mm512_mullo_epi64(job, I(0x9e3779b97f4a7c15ULL)),
+                                 _mm512_mullo_epi64(depth, I(0xd1b54a32d192ed03ULL))));
 }
 
 /* the sobol variant's state: each pixel's sampler (made on its first
@@ -302,8 +313,7 @@ static void lane_sampler(int l, uint32_t j)
 static inline __m512i bounce8(const lanes *L, __mmask8 cont, int sobol)
 {
     if (!sobol)
-        return mix8(_mm512_add_epi64(_mm512_mullo_epi64(L->job, _mm512_set1_epi64(0x9e3779b97f4a7c15ULL)),
-                                     _mm512_mullo_epi64(L->depth, _mm512_set1_epi64(0xd1b54a32d192ed03ULL))));
+        return bounce_bits8(L->job, L->depth);
     int64_t __attribute__((aligned(64))) dep[8];
     uint64_t __attribute__((aligned(64))) u[8] = {0};
     _mm512_store_si512(dep, L->depth);
@@ -337,13 +347,17 @@ static __mmask8 refill8(lanes *L, __mmask8 live, __mmask8 ended, uint32_t *next,
     }
     *next += k;
     const __m512d pix = _mm512_cvtepi64_pd(_mm512_srli_epi64(j, SPP_LOG2));
-    const __m512d py = _mm512_roundscale_pd(_mm512_mul_pd(_mm512_add_pd(pix, B(0.5)), B(1.0 / W)), _MM_FROUND_TO_NEG_INF);
+    const __m512d py =
+        _mm512_roundscale_pd(_mm512_mul_pd(_mm512_add_pd(pix, B(0.5)), B(1.0 / W)), _MM_FROUND_TO_NEG_INF);
     const __m512d px = _mm512_sub_pd(pix, _mm512_mul_pd(py, B(W)));
-    const __m512i r = mix8(_mm512_add_epi64(_mm512_mullo_epi64(j, _mm512_set1_epi64(0x9e3779b97f4a7c15ULL)), _mm512_set1_epi64(12345)));
-    const __m512d fx = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepu64_pd(_mm512_and_si512(r, _mm512_set1_epi64(0xffffffffULL))), B(0x1.0p-32)), B(0.5));
+    const __m512i r = mix8(_mm512_add_epi64(_mm512_mullo_epi64(j, I(0x9e3779b97f4a7c15ULL)), I(12345)));
+    const __m512d lo = _mm512_cvtepu64_pd(_mm512_and_si512(r, I(0xffffffffULL)));
+    const __m512d fx = _mm512_sub_pd(_mm512_mul_pd(lo, B(0x1.0p-32)), B(0.5));
     const __m512d fy = _mm512_sub_pd(_mm512_mul_pd(_mm512_cvtepu64_pd(_mm512_srli_epi64(r, 32)), B(0x1.0p-32)), B(0.5));
     const __m512d sx = _mm512_add_pd(px, fx), sy = _mm512_add_pd(py, fy);
-#define CAM(c) _mm512_sub_pd(_mm512_add_pd(B(pix00.c), _mm512_add_pd(_mm512_mul_pd(B(du.c), sx), _mm512_mul_pd(B(dv.c), sy))), B(cam.c))
+#define CAM(c)                                                                                                 \
+    _mm512_sub_pd(_mm512_add_pd(B(pix00.c), _mm512_add_pd(_mm512_mul_pd(B(du.c), sx), _mm512_mul_pd(B(dv.c), sy))), \
+                  B(cam.c))
     L->dx = _mm512_mask_mov_pd(L->dx, ended, CAM(x));
     L->dy = _mm512_mask_mov_pd(L->dy, ended, CAM(y));
     L->dz = _mm512_mask_mov_pd(L->dz, ended, CAM(z));
@@ -388,9 +402,7 @@ static void render_lanes(int sobol)
         const __mmask8 light = _mm512_mask_cmp_pd_mask(hit, em, _mm512_setzero_pd(), _CMP_GT_OQ);
 #ifdef PROBE_CHECK
         {
-            const __m512i f = mix8(_mm512_xor_si512(_mm512_castpd_si512(t),
-                                                     mix8(_mm512_add_epi64(_mm512_mullo_epi64(L.job, _mm512_set1_epi64(0x9e3779b97f4a7c15ULL)),
-                                                                           _mm512_mullo_epi64(L.depth, _mm512_set1_epi64(0xd1b54a32d192ed03ULL))))));
+            const __m512i f = mix8(_mm512_xor_si512(_mm512_castpd_si512(t), bounce_bits8(L.job, L.depth)));
             uint64_t fl[8];
             _mm512_storeu_si512(fl, _mm512_maskz_mov_epi64(hit, f));
             for (int l = 0; l < 8; l++)
@@ -398,13 +410,17 @@ static void render_lanes(int sobol)
         }
 #endif
         L.depth = _mm512_add_epi64(L.depth, _mm512_set1_epi64(1));
-        const __mmask8 cont = hit & (__mmask8)~light & _mm512_cmp_epi64_mask(L.depth, _mm512_set1_epi64(MAX_DEPTH), _MM_CMPINT_LT);
+        const __mmask8 deeper = _mm512_cmp_epi64_mask(L.depth, I(MAX_DEPTH), _MM_CMPINT_LT);
+        const __mmask8 cont = hit & (__mmask8)~light & deeper;
         if (light)
             emit8(&L, light, em);
         /* the lambertian bounce: the normal facing the ray, plus a uniform direction */
-        __m512d nx = _mm512_i64gather_pd(idc, Q.nx, 8), ny = _mm512_i64gather_pd(idc, Q.ny, 8), nz = _mm512_i64gather_pd(idc, Q.nz, 8);
-        const __m512d den = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(nx, L.dx), _mm512_mul_pd(ny, L.dy)), _mm512_mul_pd(nz, L.dz));
-        const __m512d flip = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(den, _mm512_setzero_pd(), _CMP_LT_OQ), B(-1), B(1));
+        __m512d nx = _mm512_i64gather_pd(idc, Q.nx, 8), ny = _mm512_i64gather_pd(idc, Q.ny, 8);
+        __m512d nz = _mm512_i64gather_pd(idc, Q.nz, 8);
+        const __m512d den =
+            _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(nx, L.dx), _mm512_mul_pd(ny, L.dy)), _mm512_mul_pd(nz, L.dz));
+        const __mmask8 front = _mm512_cmp_pd_mask(den, _mm512_setzero_pd(), _CMP_LT_OQ);
+        const __m512d flip = _mm512_mask_blend_pd(front, B(-1), B(1));
         nx = _mm512_mul_pd(nx, flip), ny = _mm512_mul_pd(ny, flip), nz = _mm512_mul_pd(nz, flip);
         L.ox = _mm512_add_pd(L.ox, _mm512_mul_pd(t, L.dx));
         L.oy = _mm512_add_pd(L.oy, _mm512_mul_pd(t, L.dy));
