@@ -13,8 +13,8 @@ PACKAGES=(gcc make cmake pkg-config libopenmpi-dev openmpi-bin libpng-dev)
 # (cJSON), OpenEXR output, JPEG image textures (libjpeg-turbo).
 PACKAGES+=(libcjson-dev libopenexr-dev libjpeg62-turbo-dev)
 # The tests read files back with ImageMagick, python3 and OpenEXR's tools.
-# The fuzzer (scripts/fuzz.sh) also needs clang:
-# RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev".
+# The fuzzer (tools/fuzz.sh) also needs clang and its OpenMP:
+# RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev libomp-14-dev".
 case " $* " in *" -DBUILD_TESTING=ON "*) PACKAGES+=(imagemagick python3 openexr) ;; esac
 PACKAGES+=(${RT_EXTRA_PACKAGES:-})
 

@@ -8,7 +8,7 @@
 # Crashing inputs land in tests/fuzz/crashers/: commit them with the fix,
 # and ctest's fuzz_replay keeps them from coming back.
 # Needs clang and its fuzzer runtime:
-#   RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev" scripts/setup.sh
+#   RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev libomp-14-dev" scripts/setup.sh
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 SECONDS_TO_RUN=${1:-300}

@@ -186,7 +186,7 @@ rt_vec3 rt_nee_direct(const rt_renderer *r, rt_vec3 p, const rt_nee_bsdf *b, rt_
                                             : cosine / PI;
     if (!(pdf_bsdf > 0.0)) /* outside a fuzzy metal's ball of directions */
         return none;
-    const int aim = !iso && !(b->fuzz > 0.0) && RT_NEE_AIM_SLOTS && r->light_targets;
+    const int aim = !iso && !(b->fuzz > 0.0) && RT_NEE_AIM_SLOTS > 0 && r->light_targets;
     const double keep = shadow_keep(r, luma(weight) * ld.emit * pdf_bsdf / ld.pdf, ld.rest,
                                     iso ? RT_NEE_SHADOW_KEEP_MEDIA : RT_NEE_SHADOW_KEEP_SURFACE);
     rt_whit h; /* rt_nee_closest's hit if nothing stands in front of the light */

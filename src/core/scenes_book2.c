@@ -44,7 +44,7 @@ static int solid(rt_scene *s, rt_vec3 c, uint32_t *idx)
 /* The book's checker of cell size `cell` between two colours. */
 static int checker(rt_scene *s, double cell, rt_vec3 even, rt_vec3 odd, uint32_t *idx)
 {
-    uint32_t e, o;
+    uint32_t e = 0, o = 0; /* read (and dropped) on an error too */
     int st = solid(s, even, &e);
     if (!st)
         st = solid(s, odd, &o);
@@ -264,7 +264,7 @@ static int cornell(rt_scene *s, int smoke)
  * and a glass sphere in place of the short one. */
 static int book3_final(rt_scene *s)
 {
-    uint32_t red, white, green, light, glass;
+    uint32_t red = 0, white = 0, green = 0, light = 0, glass = 0; /* read (and dropped) on an error too */
     int st = mat(s, rt_scene_lambertian(rt_v3(.65, .05, .05)), &red);
     if (!st)
         st = mat(s, rt_scene_lambertian(rt_v3(.73, .73, .73)), &white);

@@ -37,8 +37,8 @@ static int parse_material2(rt_json_ctx *c, const cJSON *obj, const char *w, cons
 {
     static const char *const lam_keys[] = {"type", "name", "albedo", "texture", NULL};
     static const char *const light_keys[] = {"type", "name", "emit", "texture", "two_sided", NULL};
-    rt_vec3 col;
-    uint32_t tex;
+    rt_vec3 col = {0, 0, 0};
+    uint32_t tex = 0; /* both read (and dropped) on an error too */
     int st;
     if (!strcmp(type, "lambertian") || !strcmp(type, "isotropic")) {
         st = rt_json_check_keys(c, obj, w, lam_keys);

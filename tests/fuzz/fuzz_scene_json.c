@@ -1,5 +1,5 @@
 /* fuzz_scene_json.c - libFuzzer target for the scene-file loader (built by
- * tests/fuzz/CMakeLists.txt with clang; see scripts/fuzz.sh). */
+ * tests/fuzz/CMakeLists.txt with clang; see tools/fuzz.sh). */
 #include <stdio.h>
 #include <stdlib.h>
 
