@@ -372,6 +372,8 @@ static int instance_elem(rt_json_ctx *c, const cJSON *e, const char *w, const rt
 static int check_groups(rt_json_ctx *c, const cJSON *groups)
 {
     int st = rt_json_need_object(c, groups, "groups");
+    if (st) /* an array's items have no names to quote */
+        return st;
     const cJSON *g;
     cJSON_ArrayForEach(g, groups)
     {
@@ -383,7 +385,7 @@ static int check_groups(rt_json_ctx *c, const cJSON *groups)
         if (!st)
             st = rt_json_check_keys(c, g, at, OBJECT_LISTS);
     }
-    for (const cJSON *a = groups ? groups->child : NULL; a && !st; a = a->next)
+    for (const cJSON *a = groups->child; a && !st; a = a->next)
         for (const cJSON *b = a->next; b && !st; b = b->next)
             if (!strcmp(a->string, b->string))
                 st = rt_json_fail(c, RT_EFORMAT, "groups", "two groups of one name");

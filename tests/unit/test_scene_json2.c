@@ -127,6 +127,9 @@ int main(int argc, char **argv)
     expect_error(HEAD ISO ", \"instances\": [{\"objects\": {\"quads\": []}}]}",
                  "s.json: instances[0].objects: instance of nothing (no objects)");
     expect_error(HEAD ISO ", \"instances\": [{\"group\": \"nope\"}]}", "s.json: instances[0].group: no group named 'nope'");
+    /* groups as an array (its items have no names): found by fuzzing, it crashed the loader */
+    expect_error(HEAD ISO ", \"groups\": [{\"quads\": []}], \"instances\": [{\"group\": \"g\"}]}",
+                 "s.json: groups: expected an object");
     expect_error(HEAD ISO ", \"groups\": {\"g\": {\"instances\": [{\"group\": \"g\"}]}}, \"instances\": [{\"group\": \"g\"}]}",
                  "instances nested deeper than 16 (a group that contains itself?)");
     expect_error(HEAD ISO ", \"boxes\": [" BOX "], \"textures\": [{\"type\": \"checker\", \"scale\": 1, \"even\": 0, "
