@@ -45,6 +45,8 @@ void rt_json_join(char *out, size_t n, const char *where, const char *key)
 
 int rt_json_check_keys(rt_json_ctx *c, const cJSON *obj, const char *where, const char *const *allowed)
 {
+    if (!cJSON_IsObject(obj)) /* its callers check first; an array's items have no names */
+        return rt_json_need_object(c, obj, where);
     const cJSON *item;
     cJSON_ArrayForEach(item, obj)
     {
