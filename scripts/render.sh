@@ -1,8 +1,8 @@
 #!/bin/bash
 # render.sh [rt-mpi options...]
 # From a fresh Debian 12 machine: installs what is missing, builds, and
-# renders the default scene (book 1 final scene, 1200x800) with every rank
-# and core of this machine into output.png, at 100 samples per pixel unless
+# renders the default scene (book 1 final scene, 1200x800) in one process
+# using every core of this machine into output.png, at 100 samples per pixel unless
 # the options say otherwise (the last -s or -o given wins); the full
 # 500-spp job is
 #   scripts/render.sh -s 500

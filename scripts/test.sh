@@ -2,7 +2,7 @@
 # test.sh: from a fresh Debian 12 machine, installs what is missing, builds
 # and runs the whole test suite: ctest (unit tests, end-to-end tests under
 # mpirun, checkpoint/resume/signals, Slurm, ...), then the sanitizer and
-# valgrind pass (scripts/sanitize.sh).
+# valgrind pass (tools/sanitize.sh).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 # What the tests need beyond the build: a real single-node Slurm, valgrind,

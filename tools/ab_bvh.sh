@@ -4,7 +4,7 @@
 # (src/core/bvh.c and bvh_build.c) against the one at git revision REV
 # (default HEAD), or against FILE.c (a bvh.c, with the bvh_build.c and
 # headers beside it, see below),
-# on the same rays in one process, alternating rounds (tests/ab_bvh.c), and
+# on the same rays in one process, alternating rounds (tools/bench/ab_bvh.c), and
 # fails if the two find different hits. CMake builds both into the target
 # ab_bvh with the release flags of the core (-O3, no -march, no FMA
 # contraction), without LTO so the call into the BVH is not inlined in

@@ -3,7 +3,7 @@
 # Decide a change to the render core by timing whole renders: the working
 # tree's program (A) against the one built from git revision REV (B, default
 # HEAD), both release builds as users run them (LTO, which inlines the
-# intersector into the path loop: scripts/ab_bvh.sh times it as a function of
+# intersector into the path loop: tools/ab_bvh.sh times it as a function of
 # its own, and a gain there need not survive this), without MPI, one thread.
 # The renders alternate A, B, A, B... (--rounds pairs, default 5) so a drift
 # in the machine's speed hits both; prints the median ray segments/s of each,

@@ -1,5 +1,5 @@
-# bench_lib.sh - helpers shared by the benchmark scripts (sourced by bench.sh
-# and ab_render.sh).
+# bench_lib.sh - helpers shared by the benchmark scripts (sourced by the
+# benchmark and A/B scripts in tools/).
 
 # segment_rate FILE: the ray segments per second (M/s) rt-mpi printed to FILE.
 segment_rate() { sed -n 's/^ray segments: *[0-9]* (\([0-9.]*\) M\/s)/\1/p' "$1"; }

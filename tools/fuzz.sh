@@ -6,7 +6,8 @@
 # 300), then merges the inputs that reach new code into the corpus
 # (tests/fuzz/corpus, or tests/fuzz/corpus_texture).
 # Crashing inputs land in tests/fuzz/crashers/: commit them with the fix,
-# and ctest's fuzz_replay keeps them from coming back.
+# and ctest's unit_scene_json_corpus and unit_texture_image_corpus keep them
+# from coming back.
 # Needs clang and its fuzzer runtime:
 #   RT_EXTRA_PACKAGES="clang-14 libclang-rt-14-dev libomp-14-dev" scripts/setup.sh
 set -euo pipefail

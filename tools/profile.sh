@@ -10,7 +10,7 @@
 # else rt_accel_closest, once per ray segment. Renders the final
 # scene at 150x100, 8 spp, 1 thread unless the options say otherwise (later
 # options win), e.g.
-#   scripts/profile.sh --accel brute --width 60 --height 40 -s 2
+#   tools/profile.sh --accel brute --width 60 --height 40 -s 2
 # and prints instructions per ray segment: in the intersector (per query)
 # and in everything else of the render (camera, shading, sampling, RNG).
 # The full profile stays in $PROFILE_BUILD_DIR/callgrind.out for
