@@ -13,37 +13,6 @@ K=(--width 160 --height 96 -s 2400 -q)
 "$BIN" "${K[@]}" -j 2 --no-checkpoint -o "$WORK/ref.png" >"$WORK/ref.out" 2>&1
 check_eq "reference render" $? 0
 
-# stop_rank_during label signal rank out same-test -- command...: runs the
-# command (mpirun, in the background) and sends the signal to the rank
-# once it has rendered for half a second of CPU (some units finished: a
-# unit takes about 0.1 s), whatever the machine's load. On a loaded host
-# a rank can get so little of the CPU that it has rendered its whole share
-# and sent its last sums by then: the job ends well, with every byte right
-# and no rank lost, and nothing was tested. That attempt is said so and run
-# again with half the threshold (three attempts at most). Every check after
-# it holds for the last attempt, so a wrong image, an error or a lost rank
-# is never retried. same-test is a command that succeeds when the output
-# is the uninterrupted render's. Sets victim, cpu and status.
-stop_rank_during() {
-    local label=$1 sig=$2 rank=$3 out=$4 same=$5 threshold=0.5 attempt pid
-    shift 6
-    for attempt in 1 2 3; do
-        rm -f ${out//#/*} "$WORK/$label.done" # nothing from the attempt before
-        "$@" >"$WORK/$label.out" 2>"$WORK/$label.err" &
-        pid=$!
-        victim=$(rank_pid "-o $out" "$rank")
-        [ -n "$victim" ] || { fail "$label: rank $rank not found"; kill $pid; wait $pid; status=1; return; }
-        wait_cpu "$victim" $threshold
-        cpu=$(cpu_seconds "$victim")
-        kill -"$sig" "$victim" 2>/dev/null
-        wait $pid
-        status=$?
-        [ $status -eq 0 ] && $same && ! grep -q "^lost ranks:" "$WORK/$label.out" || return 0
-        echo "note: $label: attempt $attempt: rank $rank had rendered its whole share" \
-            "${cpu:+and sent its sums by $cpu s of CPU}${cpu:-and ended} (a loaded machine): again, at $threshold / 2 s"
-        threshold=$(awk -v t="$threshold" 'BEGIN {print t / 2}')
-    done
-}
 same_image() { cmp -s "$1" "$WORK/ref.png"; }
 
 # lose_rank label signal rank [options]
@@ -113,4 +82,5 @@ for f in 0 1 2 3; do cmp -s "$WORK/fr_$f.png" "$WORK/fref_$f.png" && same=$((sam
 check_eq "frames: frames identical to the uninterrupted range" $same 4
 pgrep -f -- "-o $WORK/fr_#.png" >/dev/null && { fail "frames: processes left behind"; pkill -9 -f -- "-o $WORK/fr_#.png"; } ||
     pass "frames: no process left behind"
+
 finish

@@ -79,6 +79,41 @@ wait_cpu() { # pid seconds
     done
     return 1
 }
+# stop_rank_during label signal rank out same-test -- command...: runs the
+# command (mpirun, in the background; output in $WORK/label.out and .err)
+# and sends the signal to MPI rank RANK (found by rank_pid "-o OUT") once
+# it has rendered for half a second of CPU (some units finished: a unit
+# takes about 0.1 s), whatever the machine's load. On a loaded host a rank
+# can get so little of the CPU that it has rendered its whole share and
+# sent its last sums by then: the job ends well, every byte right (the
+# command same-test succeeds) and no rank lost, and nothing was tested.
+# That attempt is said so and run again at half the threshold (three
+# attempts at most). The caller's checks run on the last attempt, so a
+# wrong image, an error exit or a loss is never retried. OUT's files (# for
+# a frame number) and its checkpoint are removed before each attempt.
+# Sets victim (empty: the rank was not found, one failure counted), cpu
+# (at the signal) and status (the command's).
+stop_rank_during() {
+    local label=$1 sig=$2 rank=$3 out=$4 same=$5 threshold=0.5 attempt pid
+    shift 6
+    for attempt in 1 2 3; do
+        rm -f ${out//#/*} ${out//#/*}.ckpt "$WORK/$label.done"
+        "$@" >"$WORK/$label.out" 2>"$WORK/$label.err" &
+        pid=$!
+        victim=$(rank_pid "-o $out" "$rank")
+        [ -n "$victim" ] || { fail "$label: rank $rank not found"; kill $pid; wait $pid; status=1; return; }
+        wait_cpu "$victim" $threshold
+        cpu=$(cpu_seconds "$victim")
+        kill -"$sig" "$victim" 2>/dev/null
+        wait $pid
+        status=$?
+        [ $status -eq 0 ] && $same && ! grep -q "^lost ranks:" "$WORK/$label.out" || return 0
+        echo "note: $label: attempt $attempt: rank $rank had rendered its whole share and" \
+            "$([ -n "$cpu" ] && echo "sent its sums by $cpu s of CPU" || echo ended) (a loaded machine):" \
+            "again, at $threshold / 2 s"
+        threshold=$(awk -v t="$threshold" 'BEGIN {print t / 2}')
+    done
+}
 # A number from --stats' JSON (its first, top-level KEY).
 stat_of() { sed -n "0,/^\t\"$2\":/s/^\t\"$2\":\t\([0-9.]*\),*$/\1/p" "$1"; }
 # A resume renders only what the checkpoint lacks: the summary says some
