@@ -15,6 +15,8 @@
 void rt_farm_signals_install(void);
 /* Stops the render as a signal would (rank 0 asked this worker to stop). */
 void rt_farm_stop_raise(int sig);
+/* Every rank here before any goes on (start.c's start-up wait). */
+void rt_farm_sync(const rt_farm *f);
 #define RT_FARM_STOPPED() (*rt_farm_stop_flag())
 
 /* place.c: this rank's CPUs (before MPI), then which ranks of its node

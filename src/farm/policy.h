@@ -13,6 +13,7 @@
 #define RT_POLICY_MAX_BAND 16        /* most rows of an automatic band */
 #define RT_POLICY_UNITS_PER_RANK 16  /* units a pass wants per rank, for balance */
 #define RT_POLICY_FRAMES_IN_FLIGHT 4 /* a frame job: frames with units out at most (their sums on rank 0) */
+#define RT_POLICY_START_WAIT 60      /* s rank 0 waits for every rank at a start-up step before ending the job */
 
 #define RT_POLICY_STR_(x) #x
 #define RT_POLICY_STR(x) RT_POLICY_STR_(x)

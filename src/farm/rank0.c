@@ -154,10 +154,7 @@ void rt_farm_render(rt_farm *f, const rt_farm_job *job, const rt_farm_rank0 *own
 {
     memset(res, 0, sizeof *res);
     rt_farm_signals_install();
-#ifdef RT_HAVE_MPI
-    if (f->mpi && f->size > 1)
-        MPI_Barrier(MPI_COMM_WORLD); /* common time origin for the trace */
-#endif
+    rt_farm_sync(f); /* common time origin for the trace */
     double t0 = rt_now();
     if (f->rank == 0) {
         run_root(f, job, own, res, t0);

@@ -3,6 +3,7 @@
  * the signal handlers every render loop watches. */
 #include "internal.h"
 
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,8 +12,12 @@
 
 #ifdef RT_HAVE_MPI
 #include <mpi.h>
+
+#include "inbox.h"
 #endif
 
+#include "clock.h"
+#include "policy.h"
 #include "status.h"
 
 /* Set by the signal handler; every render loop watches it. */
@@ -176,15 +181,75 @@ void rt_farm_fail(const rt_farm *f, rt_exit_code code, const char *fmt, ...)
     exit(code);
 }
 
+#ifdef RT_HAVE_MPI
+/* Completes one of the start-up's collectives (the checks' verdict, the
+ * scene, the common start). MPI's blocking calls would wait forever for a
+ * rank lost before rendering began: Open MPI 4.1 has no ULFM, and under
+ * mpirun --enable-recovery or srun --no-kill nothing ends the job. So rank
+ * 0, which waits on the others there only for their checks, the scene's
+ * transfer and their set-up, ends it with one line after
+ * RT_POLICY_START_WAIT s; the workers wait as long as rank 0 takes (it may
+ * be reading a large scene). Napping between tests: no core spins. */
+static void start_wait(const rt_farm *f, MPI_Request *req, int rc, const char *step)
+{
+    int wait_s = RT_POLICY_START_WAIT;
+#ifdef RT_TEST_HOOKS
+    /* Test builds only: a shorter wait (tests/e2e/e2e_survival.sh) */
+    const char *w = getenv("RT_TEST_START_WAIT");
+    if (w && atoi(w) > 0)
+        wait_s = atoi(w);
+#endif
+    const double give_up = rt_now() + wait_s;
+    int done = 0, idle = 0;
+    for (;;) {
+        if (rc != MPI_SUCCESS || (rc = MPI_Test(req, &done, MPI_STATUS_IGNORE)) != MPI_SUCCESS)
+            rt_farm_fail(f, RT_EXIT_RUNTIME, "%s failed", step);
+        if (done)
+            return;
+        if (f->rank == 0 && rt_now() > give_up)
+            rt_farm_fail(f, RT_EXIT_RUNTIME,
+                         "not every rank reached the start-up's %s within %d s: a rank was lost before rendering "
+                         "began; the job ends (run it again)",
+                         step, wait_s);
+        rt_inbox_nap(&idle);
+    }
+}
+
+static void bcast(const rt_farm *f, void *buf, int n, MPI_Datatype type, const char *step)
+{
+    MPI_Request req;
+    start_wait(f, &req, MPI_Ibcast(buf, n, type, 0, MPI_COMM_WORLD, &req), step);
+}
+#endif
+
+void rt_farm_sync(const rt_farm *f)
+{
+#ifdef RT_HAVE_MPI
+#ifdef RT_TEST_HOOKS
+    /* Test builds only: one rank dies as a crash would, before the start */
+    const char *die = getenv("RT_TEST_DIE_AT_START");
+    if (die && *die && atoi(die) == f->rank)
+        raise(SIGKILL);
+#endif
+    if (f->mpi && f->size > 1) {
+        MPI_Request req;
+        start_wait(f, &req, MPI_Ibarrier(MPI_COMM_WORLD, &req), "common start (MPI_Ibarrier)");
+    }
+#else
+    (void)f;
+#endif
+}
+
 int rt_farm_agree(const rt_farm *f, int mine, int *root)
 {
     *root = mine;
 #ifdef RT_HAVE_MPI
     if (f->mpi && f->size > 1) {
         int worst = mine;
-        if (MPI_Allreduce(&mine, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD) != MPI_SUCCESS ||
-            MPI_Bcast(root, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-            rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Allreduce failed");
+        MPI_Request req;
+        start_wait(f, &req, MPI_Iallreduce(&mine, &worst, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD, &req),
+                   "checks (MPI_Iallreduce)");
+        bcast(f, root, 1, MPI_INT, "checks (MPI_Ibcast)");
         return worst;
     }
 #else
@@ -196,8 +261,8 @@ int rt_farm_agree(const rt_farm *f, int mine, int *root)
 void rt_farm_bcast_int(const rt_farm *f, int *v)
 {
 #ifdef RT_HAVE_MPI
-    if (f->mpi && f->size > 1 && MPI_Bcast(v, 1, MPI_INT, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast failed");
+    if (f->mpi && f->size > 1)
+        bcast(f, v, 1, MPI_INT, "broadcast (MPI_Ibcast)");
 #else
     (void)f;
     (void)v;
@@ -210,8 +275,7 @@ int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len)
     if (!f->mpi || f->size == 1)
         return RT_OK;
     unsigned long long n = f->rank == 0 ? (unsigned long long)*len : 0;
-    if (MPI_Bcast(&n, 1, MPI_UNSIGNED_LONG_LONG, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast failed");
+    bcast(f, &n, 1, MPI_UNSIGNED_LONG_LONG, "scene's size (MPI_Ibcast)");
     if (n > (unsigned long long)INT32_MAX)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "scene of %llu bytes is too large to broadcast", n);
     if (f->rank != 0) {
@@ -220,8 +284,7 @@ int rt_farm_bcast_bytes(const rt_farm *f, uint8_t **buf, size_t *len)
             rt_farm_fail(f, RT_EXIT_RUNTIME, "out of memory for the %llu-byte scene", n);
         *len = (size_t)n;
     }
-    if (MPI_Bcast(*buf, (int)n, MPI_BYTE, 0, MPI_COMM_WORLD) != MPI_SUCCESS)
-        rt_farm_fail(f, RT_EXIT_RUNTIME, "MPI_Bcast of the scene failed");
+    bcast(f, *buf, (int)n, MPI_BYTE, "scene (MPI_Ibcast)");
 #else
     (void)f;
     (void)buf;

@@ -1,12 +1,12 @@
 #!/bin/bash
-# e2e_survival.sh BIN MPIRUN - a lost rank costs no restart. Under
+# e2e_survival.sh BIN MPIRUN HOOKS - a lost rank costs no restart. Under
 # `mpirun --enable-recovery` (Open MPI 4.1 has no ULFM; with it the
 # survivors keep talking), one worker is killed (kill -9) or hung (SIGSTOP)
 # mid-render: rank 0 hears nothing from it for a lease, hands its units to
 # the others, and the job ends by itself with status 0 and the bytes of an
 # uninterrupted run. (Without --enable-recovery mpirun ends the whole job:
 # e2e_resume.sh checks the checkpoint and --resume for that case.)
-BIN=$1 MPIRUN=${2:-}
+BIN=$1 MPIRUN=${2:-} HOOKS=${3:-}
 source "$(dirname "$0")/../support/lib.sh"
 [ -n "$MPIRUN" ] || { skip "no mpirun"; finish; }
 K=(--width 160 --height 96 -s 2400 -q)
@@ -83,4 +83,29 @@ check_eq "frames: frames identical to the uninterrupted range" $same 4
 pgrep -f -- "-o $WORK/fr_#.png" >/dev/null && { fail "frames: processes left behind"; pkill -9 -f -- "-o $WORK/fr_#.png"; } ||
     pass "frames: no process left behind"
 
+# A rank lost before rendering began (the test build's rank 1 kills itself
+# before the start-up's last collective): the others cannot go on without
+# it there, and must not wait forever either (nothing else ends an
+# --enable-recovery job): rank 0 ends the job with one line after the
+# start-up wait (3 s here, RT_POLICY_START_WAIT otherwise), and nothing is
+# written. Open MPI 4.1's mpirun --enable-recovery reports 0 even after
+# MPI_Abort, so the missing --done-file is the job script's outcome.
+if [ -n "$HOOKS" ]; then
+    out="$WORK/start.png"
+    RT_TEST_DIE_AT_START=1 RT_TEST_START_WAIT=3 timeout 60 "$MPIRUN" -x RT_TEST_DIE_AT_START -x RT_TEST_START_WAIT \
+        --enable-recovery -np 3 --bind-to none "$HOOKS" "${K[@]}" -j 1 --lease 2 -o "$out" \
+        --done-file "$WORK/start.done" >"$WORK/start.out" 2>"$WORK/start.err"
+    status=$?
+    [ $status -ne 124 ] && pass "start: the job ended by itself (mpirun status $status)" ||
+        fail "start: still waiting after 60 s"
+    check_eq "start: rank 0's one line" \
+        "$(grep -c "^rt-mpi: error: rank 0: not every rank reached the start-up's .* within 3 s: a rank was lost" \
+            "$WORK/start.err")" 1
+    [ ! -e "$out" ] && [ ! -e "$WORK/start.done" ] && pass "start: no image, no --done-file" ||
+        fail "start: $(ls "$WORK"/start.*)"
+    pgrep -f -- "-o $out" >/dev/null && { fail "start: processes left behind"; pkill -9 -f -- "-o $out"; } ||
+        pass "start: no process left behind"
+else
+    skip "start: no test build"
+fi
 finish
