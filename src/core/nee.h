@@ -23,11 +23,13 @@
 
 /* The closest surface of ray at time `time` with t > 0.001 (path.h's
  * T_MIN): one walk of the world's tree, which holds the static spheres
- * too (a tie goes to the quads and moving spheres: a fixed rule). Inline:
- * the path loop's every segment. */
-static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, rt_whit *h)
+ * too (a tie goes to the quads and moving spheres: a fixed rule), or
+ * inside a glass sphere none (from: the path's last hit, or NULL; the same
+ * answer). Inline: the path loop's every segment. */
+static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double time, const rt_whit *from,
+                                 rt_whit *h)
 {
-    return rt_world_closest(r->world, ray, time, 0.001, INFINITY, h);
+    return rt_world_closest_from(r->world, ray, time, 0.001, INFINITY, from, h);
 }
 
 /* A vertex's scattering, as next-event estimation weighs a direction by

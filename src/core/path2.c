@@ -489,13 +489,15 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
     const rt_renderer *r = c->r;
     uint64_t segs = 0;
     vertex v = {0, 0, time, 0.0, &segs, {0, 0, 0, {0, 0, 0}}, 0, {0, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    rt_whit last; /* the last segment's hit (its surface, or a medium's flight short of it) */
+    int have_last = 0;
     for (uint32_t depth = 0; depth < r->job.max_depth; depth++) {
         segs++;
         v.depth = depth;
         v.base = RT_SAMPLER2_DIM_BOUNCE + c->stride * depth;
         look_ahead(c, p, &v);
         rt_whit h;
-        const int found = rt_nee_closest(r, &p->ray, time, &h);
+        const int found = rt_nee_closest(r, &p->ray, time, have_last ? &last : NULL, &h);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_FLIGHT);
         double tm;
         uint32_t k;
@@ -517,6 +519,7 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
         }
         if (!path_roulette(r, p, depth))
             break;
+        last = h, have_last = found;
     }
     *segments += segs;
 }

@@ -42,9 +42,7 @@ typedef struct bin {
     uint8_t *side;
 } bin;
 
-typedef struct box {
-    double lo[3], hi[3];
-} box;
+typedef wbox box;
 
 static void box_point(box *b, rt_vec3 p, double pad)
 {
@@ -376,8 +374,11 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         w->mat[i] = rt_world_material(w, &h);
         bx[i] = item_box(w, i);
     }
+    const double extent = !st && w->nitems ? extent_of(s, bx, w->nitems) : 0.0;
     if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)
-        st = build_tree(w, bx, extent_of(s, bx, w->nitems));
+        st = build_tree(w, bx, extent);
+    if (!st && w->n_nodes)
+        st = rt_world_rooms_build(w, bx, extent);
     const double leaves = !st && w->nitems ? leaves_per_ray(bx, w->nitems) : 0.0;
     free(bx);
     if (!st && w->mode == RT_WORLD_BVH)
@@ -401,6 +402,8 @@ void rt_world_free(rt_world *w)
     free(w->mat);
     free(w->nodes);
     free(w->flat);
+    free(w->rooms);
+    free(w->room_of);
     free(w);
 }
 
@@ -408,7 +411,8 @@ size_t rt_world_bytes(const rt_world *w)
 {
     return sizeof *w + ((size_t)w->nq + w->s->media.hull.n) * sizeof *w->quads +
            (size_t)w->nitems * (sizeof *w->items + sizeof *w->mat) + (size_t)w->n_nodes * sizeof(wide) +
-           (size_t)w->n_flat * sizeof(flat8);
+           (size_t)w->n_flat * sizeof(flat8) + (size_t)w->n_rooms * sizeof(room) +
+           (w->room_of ? (size_t)w->s->n_spheres * sizeof *w->room_of : 0);
 }
 
 const rt_perlin *rt_world_perlin(const rt_world *w) { return &w->perlin; }

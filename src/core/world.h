@@ -70,6 +70,16 @@ uint32_t rt_world_flat_quads(const rt_world *w);
  * *hit on a hit. */
 int rt_world_closest(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax, rt_whit *hit);
 
+/* rt_world_closest's answer for a ray that leaves the surface of hit
+ * `from` (the path's last hit, or NULL): when that is a glass sphere the
+ * ray starts inside, found without the walk (world_rooms.c). */
+int rt_world_closest_from(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax,
+                          const rt_whit *from, rt_whit *hit);
+
+/* The glass spheres whose insides rt_world_closest_from answers without the
+ * walk (0 in brute-force mode). */
+uint32_t rt_world_rooms(const rt_world *w);
+
 /* Whether a shape stands in front of shape (kind, index) whose hit is at
  * tmax: 1 when one has tmin < t < tmax, or t == tmax and it would win the
  * tie in rt_world_closest's rule. Stops at the first it finds: shadow

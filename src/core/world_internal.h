@@ -24,6 +24,11 @@ typedef struct quad_x {
 
 #define WWIDTH FBOX_WIDTH
 
+/* An item's box in double (the build's; world.c). */
+typedef struct wbox {
+    double lo[3], hi[3];
+} wbox;
+
 /* Eight quads' rows for the flat test (world_flat.c): the corner, the
  * unit normal, the edge-coordinate vectors (quad_x's), the plane's
  * offset, and the items as doubles. A block's unused lanes have a zero
@@ -45,6 +50,18 @@ typedef struct wide {
     int32_t nchild; /* bit mask of the child slots in use */
 } wide;
 
+/* A glass sphere whose inside the closest-hit query answers without the
+ * walk (world_rooms.c): its centre, the squared radius a ray's origin and
+ * hit point must lie within, its item, and the few items whose boxes come
+ * near its ball (the ones a ray from inside can hit before its far side). */
+#define RT_ROOM_NEAR 8
+typedef struct room {
+    rt_vec3 c;
+    double in2;
+    uint32_t item, n_near;
+    uint32_t near[RT_ROOM_NEAR];
+} room;
+
 /* rt_world_closest's and rt_world_occluded's work for the world's mode. */
 typedef int (*rt_world_closest_fn)(const rt_world *w, const rt_ray *ray, double time, double tmin, double tmax,
                                    rt_whit *hit);
@@ -65,6 +82,9 @@ struct rt_world {
     int mode; /* rt_world_mode; RT_WORLD_BVH resolved to the AVX or SSE2 test at build */
     flat8 *flat; /* the quads eight to a block for the flat test (world_flat.c), or NULL */
     uint32_t n_flat;
+    room *rooms;      /* the glass spheres' insides (world_rooms.c) */
+    int32_t *room_of; /* each static sphere's room, or -1; NULL when there are none */
+    uint32_t n_rooms;
     rt_perlin perlin;
     double t_lo, t_hi; /* the rays' times the moving spheres' boxes hold them for */
 };
@@ -94,6 +114,12 @@ void rt_world_pick(rt_world *w);
  * to it. */
 int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray);
 void rt_world_flat_pick(rt_world *w);
+
+/* The rooms of w's glass spheres (world_rooms.c), from the items' boxes
+ * (the build's, item by item) and the scene's extent (its largest
+ * coordinate): none in brute-force mode. Returns RT_OK or
+ * RT_ENOMEM. */
+int rt_world_rooms_build(rt_world *w, const wbox *bx, double extent);
 
 /* The book's quad test: the plane, then the edge coordinates in [0, 1]. */
 static inline int rt_quad_t(const quad_x *q, const rt_ray *ray, double tmin, double tmax, double *t)

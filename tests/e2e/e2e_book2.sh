@@ -72,6 +72,14 @@ for s in book2-final cornell-smoke bouncing-spheres simple-light "cornell-smoke 
         skip "book 2 under mpirun: no mpirun"
     fi
 done
+# The world's walk and brute force give the same image, also where the
+# glass spheres' rooms answer without the walk (world_rooms.c): book2-final's
+# smoke in a glass sphere, book3-final's glass sphere.
+for s in book2-final book3-final; do
+    A=(--scene $s "${T[@]}" --width 32 --height 24 -s 4 --max-depth 40 --no-light-sampling)
+    "$BIN" "${A[@]}" -j 2 -q -o "$WORK/walk-$s.png" >/dev/null 2>&1
+    same_as "$s --accel brute" "$WORK/walk-$s.png" "$BIN" "${A[@]}" -j 2 --accel brute
+done
 # Adaptive sampling and the buffers run the book-2 loop too.
 A=(--scene cornell-smoke --width 48 --height 36 -s 64 --max-depth 12 --noise-threshold 0.05 --aov albedo,normal)
 "$BIN" "${A[@]}" -j 1 -q -o "$WORK/ad1.png" >/dev/null 2>&1

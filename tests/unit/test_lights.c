@@ -341,7 +341,7 @@ static void check_emitted(void)
         for (int side = 0; side < 2; side++) {
             const rt_ray ray = {rt_v3(2 * i + 0.5, side ? 2 : 0, 0.5), rt_v3(0, side ? -1 : 1, 0)};
             rt_whit h;
-            CHECK(rt_nee_closest(&r, &ray, 0.0, &h));
+            CHECK(rt_nee_closest(&r, &ray, 0.0, NULL, &h));
             const rt_vec3 le = rt_nee_emitted(&r, &h, &ray, 0.0);
             CHECK_NEAR(le.x, want[i][side][0], 0.0);
             CHECK_NEAR(le.y, want[i][side][1], 0.0);

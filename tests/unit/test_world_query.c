@@ -195,6 +195,79 @@ static void check_ties(rt_world_mode mode)
     rt_scene_free(&s);
 }
 
+/* A glass sphere's room (world_rooms.c): rays from inside it, and from
+ * its surface either way, get brute force's hit from
+ * rt_world_closest_from (and from outside it, the walk's), whatever pokes into the ball (a sphere, a hollow
+ * inner sphere, a quad through it, a moving sphere at some times) or stands
+ * just beyond it (a quad 0.001 past its pole); the hollow sphere is a room
+ * of its own. A third glass sphere with nine shapes in it gets no room,
+ * the walk answers. */
+static void check_rooms(rt_world_mode mode)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t lam, glass;
+    const rt_material ml = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5)), mg = rt_scene_dielectric(1.5);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &ml, &lam), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_material(&s, &mg, &glass), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0, 0), 1.0, glass), RT_OK); /* sphere 0: the room */
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0.9, 0, 0), 0.3, lam), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(0, 0.5, 0), -0.2, glass), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(5, 0, 0), 1.0, glass), RT_OK); /* sphere 3: too crowded */
+    for (int i = 0; i < 9; i++)
+        CHECK_EQ_INT(rt_scene_add_sphere(&s, rt_v3(5 + 0.8 * cos(i), 0.8 * sin(i), 0), 0.1, lam), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-2, -0.5, -2), rt_v3(4, 0, 0), rt_v3(0, 0, 4), lam, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3(-1, -1, 1.001), rt_v3(2, 0, 0), rt_v3(0, 2, 0), lam, NULL), RT_OK);
+    CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3(0, 0, 1.2), rt_v3(0, 0, 0.8), 0.25, lam, NULL), RT_OK);
+    rt_world *w, *b;
+    CHECK_EQ_INT(rt_world_build(&w, &s, mode, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&b, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_rooms(w), 2);
+    CHECK_EQ_INT(rt_world_rooms(b), 0);
+    rt_rng rng = rt_rng_for_stream(17, RT_STREAM_TEST);
+    int same = 0, near = 0, far_side = 0;
+    const int N = 40000;
+    for (int i = 0; i < N; i++) {
+        const uint32_t room = i % 2 ? 0 : i % 3 ? 3 : 2;
+        const rt_vec3 c = room == 3 ? rt_v3(5, 0, 0) : room == 2 ? rt_v3(0, 0.5, 0) : rt_v3(0, 0, 0);
+        const double radius = room == 2 ? 0.2 : 1.0;
+        rt_vec3 o = rt_v3_add(c, rt_v3_scale(rt_sample_unit_vector(&rng), radius)); /* on the surface, rounded */
+        if (i % 4 == 1) /* inside */
+            o = rt_v3_add(c, rt_v3_scale(rt_sample_unit_vector(&rng), radius * rt_rng_double(&rng)));
+        if (i % 8 == 5) /* outside (a path's flight in a medium about the sphere): the walk's answer */
+            o = rt_v3_add(c, rt_v3_scale(rt_sample_unit_vector(&rng), radius * (1.01 + 2 * rt_rng_double(&rng))));
+        if (i % 8 == 3) { /* where a ray from outside meets the sphere */
+            const rt_vec3 at = rt_v3_add(c, rt_v3_scale(rt_sample_unit_vector(&rng), 3.0 * radius));
+            const rt_ray in = {at,
+                               rt_v3_sub(rt_v3_add(c, rt_v3_scale(rt_sample_unit_vector(&rng), 0.5 * radius)), at)};
+            double t;
+            if (rt_world_shape_t(b, RT_SHAPE_SPHERE, room, &in, 0.0, 0.001, &t))
+                o = rt_ray_at(&in, t);
+        }
+        const rt_ray r = {o, rt_v3_scale(rt_sample_unit_vector(&rng), 0.5 + rt_rng_double(&rng))};
+        const double time = rt_rng_double(&rng);
+        const rt_whit from = {1.0, RT_SHAPE_SPHERE, room, glass};
+        rt_whit a = {0, 0, 0, 0}, e = {0, 0, 0, 0};
+        const int ha = rt_world_closest_from(w, &r, time, 0.001, INFINITY, &from, &a);
+        const int he = rt_world_closest(b, &r, time, 0.001, INFINITY, &e);
+        same += ha == he && (!ha || (a.t == e.t && a.kind == e.kind && a.index == e.index && a.material == e.material));
+        near += room == 0 && he && !(e.kind == RT_SHAPE_SPHERE && e.index == 0) &&
+                rt_v3_len(rt_v3_sub(rt_ray_at(&r, e.t), c)) < 1.0;
+        far_side += room == 0 && he && e.kind == RT_SHAPE_SPHERE && e.index == 0;
+        if (!(ha == he && (!ha || (a.t == e.t && a.kind == e.kind && a.index == e.index))) && same + 5 > i)
+            fprintf(stderr, "  room ray %d: %d (t %.17g kind %u index %u), brute %d (t %.17g kind %u index %u)\n", i,
+                    ha, a.t, a.kind, a.index, he, e.t, e.kind, e.index);
+    }
+    fprintf(stderr, "rooms (mode %d): %d rays from glass spheres, %d the same as brute force, %d hit something "
+            "inside the room, %d its far side\n", (int)mode, N, same, near, far_side);
+    CHECK_EQ_INT(same, N);
+    CHECK(near > N / 40);
+    CHECK(far_side > N / 10);
+    rt_world_free(w);
+    rt_world_free(b);
+    rt_scene_free(&s);
+}
+
 int main(void)
 {
     const rt_world_mode modes[] = {RT_WORLD_BVH, RT_WORLD_BVH_SSE, RT_WORLD_BVH_SCALAR, RT_WORLD_FLAT};
@@ -209,6 +282,7 @@ int main(void)
         check_occluded("book3-final", modes[k]);
         check_occluded("bouncing-spheres", modes[k]);
         check_ties(modes[k]);
+        check_rooms(modes[k]);
     }
     check_occluded("cornell-smoke", RT_WORLD_BRUTE);
     /* which scenes the CPU's best mode tests flat (world_flat.c's rule) */
