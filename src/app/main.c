@@ -7,6 +7,7 @@
 #include <time.h>
 
 #include "clock.h"
+#include "mem.h"
 #include "report.h"
 #include "rt_config.h"
 #include "run.h"
@@ -51,6 +52,7 @@ static int stop(rt_run *run, int code, const char *err)
 
 int main(int argc, char **argv)
 {
+    rt_mem_keep_freed();
     rt_run run;
     memset(&run, 0, sizeof run);
     rt_run_cmd *cmd = &run.cmd;

@@ -7,6 +7,9 @@
 #if defined(__linux__)
 #include <sys/mman.h>
 #endif
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 /* Below this, malloc's own pool serves faster than a mapping of its own. */
 #define MAPPED_MIN ((size_t)1 << 20)
@@ -65,4 +68,12 @@ void rt_mem_free(void *p, size_t bytes)
 #endif
     (void)bytes;
     free(p);
+}
+
+void rt_mem_keep_freed(void)
+{
+#if defined(__GLIBC__) && defined(M_MMAP_THRESHOLD) && defined(M_TRIM_THRESHOLD)
+    mallopt(M_MMAP_THRESHOLD, 32 << 20); /* glibc's largest on 64-bit hosts */
+    mallopt(M_TRIM_THRESHOLD, 64 << 20);
+#endif
 }

@@ -38,4 +38,12 @@ typedef struct rt_mem_early {
 void rt_mem_zeroed_early(rt_mem_early *e, size_t bytes);
 void rt_mem_settle(rt_mem_early *e);
 
+/* Keeps blocks that malloc gives back (up to 32 MB each) in the heap for
+ * the next allocations, instead of unmapping them so that the next one
+ * faults its pages in again (glibc; elsewhere nothing). The start-up copies
+ * a scene's texels from the decoder to the scene, to its bytes and back:
+ * book2-final's start-up 44.9 -> 35.1 ms of CPU, 2,320 -> 1,643 page faults
+ * (perf stat -r 5, a 1 x 1 image). Call it first. */
+void rt_mem_keep_freed(void);
+
 #endif
