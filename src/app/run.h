@@ -15,6 +15,7 @@
 #include "farm.h"
 #include "mem.h"
 #include "primary.h"
+#include "world.h"
 #include "progress.h"
 #include "render.h"
 #include "scene.h"
@@ -42,12 +43,20 @@ typedef struct rt_run_rank {
     int threads, bound;   /* OpenMP threads of this rank; bound one to a CPU */
 } rt_run_rank;
 
+/* A camera's candidate lists for its camera rays (our BVH only): book 1's
+ * over the spheres (primary.h) or the book-2 loop's over the world
+ * (world.h), or neither (NULL). */
+typedef struct rt_run_cam_lists {
+    rt_primary *primary;
+    rt_world_lists *world;
+} rt_run_cam_lists;
+
 /* What setup builds, the same on every rank. */
 typedef struct rt_run_setup {
     rt_scene scene;       /* as broadcast */
     uint64_t scene_hash;  /* of the broadcast bytes */
     rt_accel *accel;
-    rt_primary *primary;  /* camera-ray lists (our BVH only), or NULL */
+    rt_run_cam_lists lists; /* the camera's (frame 0's in a frame job: none) */
     rt_renderer renderer;
     rt_farm_job job;
 } rt_run_setup;
@@ -109,7 +118,9 @@ void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup 
  * and time interval (rt_anim_frame) and its camera-ray lists (into *lists,
  * whose former lists are freed). A status: any thread may call it. */
 int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
-                          rt_primary **lists);
+                          rt_run_cam_lists *lists);
+/* Frees l's lists (NULL after). */
+void rt_run_cam_lists_free(rt_run_cam_lists *l);
 /* Every rank: the farm's job (units, threads, the farm's policy). */
 void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
 /* The checkpoint's identity of o's image (of frame o->frame in a frame job). */

@@ -30,7 +30,7 @@ typedef struct rt_run_seq {
     uint32_t skipped; /* written before (--resume) */
     uint32_t *todo;
     rt_renderer ring[RT_FARM_RING]; /* job.frame_renderer's slots */
-    rt_primary *lists[RT_FARM_RING];
+    rt_run_cam_lists lists[RT_FARM_RING];
     /* rank 0 */
     rt_run_writer *w;
     rt_frame_paths *paths;      /* a frame's files, for the hand-over */
@@ -301,7 +301,7 @@ void rt_run_frames(rt_run *run)
             fprintf(stderr, "rt-mpi: warning: cannot write checkpoint %s\n", o->checkpoint);
     }
     for (uint32_t i = 0; i < RT_FARM_RING; i++)
-        rt_primary_free(q.lists[i]);
+        rt_run_cam_lists_free(&q.lists[i]);
     free(q.todo);
     free(q.paths);
     free(q.rows_restored);

@@ -155,36 +155,55 @@ void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup 
         lists(o, f, s);
 }
 
-/* Our BVH's camera-ray lists for the renderer's camera (the book-2 loop
- * makes its own camera rays). */
+/* Our BVH's camera-ray lists for renderer r's camera: book 1's over the
+ * spheres, or the book-2 loop's over its world (brute force and Embree stay
+ * as they are: the oracle and the comparison). A status. */
+static int build_lists(const rt_options *o, const rt_run_setup *s, rt_renderer *r, rt_run_cam_lists *l)
+{
+    rt_run_cam_lists_free(l);
+    r->primary = NULL;
+    r->wlists = NULL;
+    int st = RT_OK;
+    if (r->world && o->accel != RT_ACCEL_BRUTE) { /* brute force stays the oracle */
+        st = rt_world_lists_build(&l->world, r->world, &r->camera, s->scene.camera.pixels == RT_PIXELS_BOOK2,
+                                  o->job.width, o->job.height);
+        r->wlists = l->world;
+    } else if (!r->world && rt_accel_bvh(s->accel)) {
+        st = rt_primary_build(&l->primary, &s->scene, &r->camera, o->job.width, o->job.height);
+        r->primary = l->primary;
+    }
+    return st;
+}
+
 static void lists(const rt_options *o, const rt_farm *f, rt_run_setup *s)
 {
-    if (!rt_accel_bvh(s->accel) || s->renderer.world)
-        return;
-    rt_primary_free(s->primary);
-    s->renderer.primary = s->primary = NULL;
-    int st = rt_primary_build(&s->primary, &s->scene, &s->renderer.camera, o->job.width, o->job.height);
+    const int st = build_lists(o, s, &s->renderer, &s->lists);
     if (st)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
-    s->renderer.primary = s->primary;
+}
+
+void rt_run_cam_lists_free(rt_run_cam_lists *l)
+{
+    rt_primary_free(l->primary);
+    rt_world_lists_free(l->world);
+    l->primary = NULL;
+    l->world = NULL;
 }
 
 int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
-                          rt_primary **lists)
+                          rt_run_cam_lists *lists)
 {
     *r = s->renderer; /* scene, intersector, job, stop flag: the job's */
-    rt_primary_free(*lists);
-    *lists = NULL;
+    rt_run_cam_lists_free(lists);
     r->primary = NULL;
+    r->wlists = NULL;
     rt_camera_desc cam;
     double t0, t1;
     int st = rt_anim_frame(&s->scene, &o->anim, frame, &cam, &t0, &t1);
     if (!st)
         st = rt_render_frame(r, &cam, t0, t1);
-    /* our BVH's camera-ray lists for this frame's camera, as lists() */
-    if (!st && rt_accel_bvh(s->accel) && !r->world &&
-        (st = rt_primary_build(lists, &s->scene, &r->camera, o->job.width, o->job.height)) == RT_OK)
-        r->primary = *lists;
+    if (!st) /* this frame's camera's lists, as lists() */
+        st = build_lists(o, s, r, lists);
     return st;
 }
 

@@ -218,9 +218,13 @@ static void print_spp(const rt_spp_stats *st, uint32_t samples, size_t npix)
 
 rt_run_lists rt_run_lists_of(const rt_run_setup *s)
 {
-    rt_run_lists l = {.built = s->primary != NULL, .bytes = rt_primary_bytes(s->primary)};
-    if (s->primary)
-        rt_primary_stats(s->primary, &l.tiles, &l.listed, &l.cand);
+    const rt_run_cam_lists *c = &s->lists;
+    rt_run_lists l = {.built = c->primary || c->world,
+                      .bytes = rt_primary_bytes(c->primary) + rt_world_lists_bytes(c->world)};
+    if (c->primary)
+        rt_primary_stats(c->primary, &l.tiles, &l.listed, &l.cand);
+    if (c->world)
+        rt_world_lists_stats(c->world, &l.tiles, &l.listed, &l.cand);
     return l;
 }
 
@@ -449,7 +453,7 @@ void rt_run_release(rt_run_root *r, rt_run_result *res)
 void rt_run_free(rt_run *run)
 {
     rt_run_release(&run->root, &run->result);
-    rt_primary_free(run->setup.primary);
+    rt_run_cam_lists_free(&run->setup.lists);
     rt_accel_free(run->setup.accel);
     rt_scene_free(&run->setup.scene);
 }

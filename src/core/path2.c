@@ -497,7 +497,10 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
         v.base = RT_SAMPLER2_DIM_BOUNCE + c->stride * depth;
         look_ahead(c, p, &v);
         rt_whit h;
-        const int found = rt_nee_closest(r, &p->ray, time, have_last ? &last : NULL, &h);
+        const int found = depth == 0 && c->pc.pn >= 0
+                              ? rt_world_closest_listed(c->w, r->wlists, c->pc.pfirst, c->pc.pn, &p->ray, time, 0.001,
+                                                        INFINITY, &h)
+                              : rt_nee_closest(r, &p->ray, time, have_last ? &last : NULL, &h);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_FLIGHT);
         double tm;
         uint32_t k;
@@ -559,6 +562,8 @@ static p2 context(const rt_renderer *r, uint32_t x, uint32_t y, int aovs)
             .caustic = r->lights && r->light_targets && !r->scene->media.media.n && !r->no_caustic,
             .cosine = !r->lights && r->job.diffuse == RT_DIFFUSE_LAMBERTIAN,
             .inscatter = r->lights && r->scene->media.media.n};
+    if (r->wlists) /* the camera rays' list of the pixel's tile (world_lists.c) */
+        c.pc.pn = rt_world_lists_tile(r->wlists, x, y, &c.pc.pfirst);
     return c;
 }
 

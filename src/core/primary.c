@@ -52,7 +52,7 @@ static int by_lo(const void *pa, const void *pb)
 }
 
 typedef struct frame {
-    rt_vec3 o, ll, h, v;
+    const rt_camera *cam;
     double dw, dh; /* the divisors of the pixel coordinates (path.h's path_start) */
     uint32_t width, height;
 } frame;
@@ -61,14 +61,18 @@ typedef struct frame {
  * centre through the footprint of pixels [x0, x1] x [y0, y1]. */
 static void pyramid(const frame *F, uint32_t x0, uint32_t x1, uint32_t y0, uint32_t y1, rt_vec3 n[4])
 {
-    const double s0 = x0 / F->dw, s1 = (x1 + 1) / F->dw;
-    const double t0 = (F->height - 1 - y1) / F->dh, t1 = (F->height - y0) / F->dh;
-    const rt_vec3 base = rt_v3_sub(F->ll, F->o);
-    n[0] = rt_v3_cross(F->v, rt_v3_add(base, rt_v3_scale(F->h, s0)));
-    n[1] = rt_v3_cross(F->v, rt_v3_add(base, rt_v3_scale(F->h, s1)));
-    n[2] = rt_v3_cross(F->h, rt_v3_add(base, rt_v3_scale(F->v, t0)));
-    n[3] = rt_v3_cross(F->h, rt_v3_add(base, rt_v3_scale(F->v, t1)));
-    const rt_vec3 inward[4] = {F->h, rt_v3_neg(F->h), F->v, rt_v3_neg(F->v)};
+    rt_primary_pyramid(F->cam, x0 / F->dw, (x1 + 1) / F->dw, (F->height - 1 - y1) / F->dh, (F->height - y0) / F->dh,
+                       n);
+}
+
+void rt_primary_pyramid(const rt_camera *cam, double s0, double s1, double t0, double t1, rt_vec3 n[4])
+{
+    const rt_vec3 base = rt_v3_sub(cam->lower_left, cam->origin), h = cam->horizontal, v = cam->vertical;
+    n[0] = rt_v3_cross(v, rt_v3_add(base, rt_v3_scale(h, s0)));
+    n[1] = rt_v3_cross(v, rt_v3_add(base, rt_v3_scale(h, s1)));
+    n[2] = rt_v3_cross(h, rt_v3_add(base, rt_v3_scale(v, t0)));
+    n[3] = rt_v3_cross(h, rt_v3_add(base, rt_v3_scale(v, t1)));
+    const rt_vec3 inward[4] = {h, rt_v3_neg(h), v, rt_v3_neg(v)};
     for (int k = 0; k < 4; k++) {
         if (rt_v3_dot(n[k], inward[k]) < 0.0)
             n[k] = rt_v3_neg(n[k]);
@@ -85,8 +89,7 @@ static inline int reaches(const rt_vec3 n[4], const geom *g)
     return 1;
 }
 
-/* f rounded down to a float (the lists' bound must never rise). */
-static float float_below(double f)
+float rt_primary_float_below(double f)
 {
     float v = (float)f;
     return (double)v > f ? nextafterf(v, -INFINITY) : v;
@@ -97,10 +100,7 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
     *out = NULL;
     if (!width || !height)
         return RT_EINVAL;
-    frame F = {.o = cam->origin,
-               .ll = cam->lower_left,
-               .h = cam->horizontal,
-               .v = cam->vertical,
+    frame F = {.cam = cam,
                .dw = width > 1 ? width - 1.0 : 1.0,
                .dh = height > 1 ? height - 1.0 : 1.0,
                .width = width,
@@ -181,7 +181,7 @@ int rt_primary_build(rt_primary **out, const rt_scene *s, const rt_camera *cam, 
                     for (uint32_t k = 0; k < nblock && count <= PRIMARY_CAP; k++) {
                         const geom *q = &g[block[k]];
                         if (reaches(nt, q))
-                            p->cand[used + count++] = (rt_primary_entry){float_below(q->lo), q->index};
+                            p->cand[used + count++] = (rt_primary_entry){rt_primary_float_below(q->lo), q->index};
                     }
                     const uint32_t t = ty * p->tiles_x + tx;
                     p->tile[t].first = (uint32_t)used;

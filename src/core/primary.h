@@ -57,6 +57,16 @@ size_t rt_primary_bytes(const rt_primary *p);
 /* Tiles with a list, and the spheres in the lists, for the summary. */
 void rt_primary_stats(const rt_primary *p, uint32_t *tiles, uint32_t *listed, size_t *candidates);
 
+/* The inward unit normals of the four side planes of the pyramid from
+ * cam's lens centre through the points lower_left + s horizontal + t
+ * vertical with s in [s0, s1], t in [t0, t1] (the camera rays' targets on
+ * the focus plane): the lists' geometry, shared with the world's
+ * (world_lists.c). */
+void rt_primary_pyramid(const rt_camera *cam, double s0, double s1, double t0, double t1, rt_vec3 n[4]);
+
+/* f rounded down to a float (a list's bound must never rise). */
+float rt_primary_float_below(double f);
+
 /* The list of pixel (x, y)'s tile: its length (-1 when the tile has no
  * list), and its start in p->cand through *first. */
 static inline int32_t rt_primary_tile(const rt_primary *p, uint32_t x, uint32_t y, uint32_t *first)

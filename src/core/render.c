@@ -28,6 +28,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->stop = NULL;
     r->bvh_avx = RT_BVH_HAVE_AVX ? rt_accel_bvh_avx(a) : NULL;
     r->primary = NULL;
+    r->wlists = NULL;
     r->lay = rt_job_layout(job);
     r->world = rt_accel_world(a);
     r->lights = job->light != RT_LIGHT_BRUTE && job->diffuse == RT_DIFFUSE_LAMBERTIAN ? rt_accel_lights(a) : NULL;

@@ -116,6 +116,10 @@ typedef struct rt_renderer {
     /* The scene's book-2 content (rt_accel_world), or NULL: then the
      * book-2 path loop (path2.c) renders it. */
     const struct rt_world *world;
+    /* The book-2 loop's camera-ray lists (rt_world_lists_build), as
+     * primary for book 1's: the caller builds them for this camera and
+     * image size (NULL after rt_render_init). */
+    const struct rt_world_lists *wlists;
     /* The emitters the book-2 path loop samples (rt_accel_lights), or NULL
      * (none, --no-light-sampling, or a diffuse model other than the
      * lambertian one, whose density next-event estimation assumes): then

@@ -53,7 +53,7 @@ static void box_point(box *b, rt_vec3 p, double pad)
     }
 }
 
-static box item_box(const rt_world *w, uint32_t i)
+wbox rt_world_item_box(const rt_world *w, uint32_t i)
 {
     box b = {{DBL_MAX, DBL_MAX, DBL_MAX}, {-DBL_MAX, -DBL_MAX, -DBL_MAX}};
     if (i < w->nq) {
@@ -372,7 +372,7 @@ int rt_world_build(rt_world **out, const rt_scene *s, rt_world_mode mode, double
         rt_whit h = {0};
         rt_world_shape(w, i, &h.kind, &h.index);
         w->mat[i] = rt_world_material(w, &h);
-        bx[i] = item_box(w, i);
+        bx[i] = rt_world_item_box(w, i);
     }
     const double extent = !st && w->nitems ? extent_of(s, bx, w->nitems) : 0.0;
     if (!st && w->nitems && w->mode != RT_WORLD_BRUTE)

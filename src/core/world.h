@@ -80,6 +80,26 @@ int rt_world_closest_from(const rt_world *w, const rt_ray *ray, double time, dou
  * walk (0 in brute-force mode). */
 uint32_t rt_world_rooms(const rt_world *w);
 
+/* Candidate lists for the camera rays of a width x height image taken with
+ * cam (as rt_camera_init set it up for that image's aspect), its pixels
+ * mapped as the scene's camera says (book2_pixels: RT_PIXELS_BOOK2),
+ * tiles of 8 x 8 pixels (world_lists.c). Status code. */
+typedef struct rt_world_lists rt_world_lists;
+struct rt_camera;
+int rt_world_lists_build(rt_world_lists **out, const rt_world *w, const struct rt_camera *cam, int book2_pixels,
+                         uint32_t width, uint32_t height);
+void rt_world_lists_free(rt_world_lists *l);
+size_t rt_world_lists_bytes(const rt_world_lists *l);
+/* Tiles with a list, and the items in the lists, for the summary. */
+void rt_world_lists_stats(const rt_world_lists *l, uint32_t *tiles, uint32_t *listed, size_t *candidates);
+/* Pixel (x, y)'s list: its length (-1 when its tile has none) and its
+ * start through *first. */
+int32_t rt_world_lists_tile(const rt_world_lists *l, uint32_t x, uint32_t y, uint32_t *first);
+/* rt_world_closest's answer for a camera ray of a pixel whose list is
+ * (first, n >= 0), from the list alone. */
+int rt_world_closest_listed(const rt_world *w, const rt_world_lists *l, uint32_t first, int32_t n, const rt_ray *ray,
+                            double time, double tmin, double tmax, rt_whit *hit);
+
 /* Whether a shape stands in front of shape (kind, index) whose hit is at
  * tmax: 1 when one has tmin < t < tmax, or t == tmax and it would win the
  * tie in rt_world_closest's rule. Stops at the first it finds: shadow

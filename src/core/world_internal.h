@@ -115,6 +115,9 @@ void rt_world_pick(rt_world *w);
 int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray);
 void rt_world_flat_pick(rt_world *w);
 
+/* Item i's box (the tree's; a moving sphere's over the world's times). */
+wbox rt_world_item_box(const rt_world *w, uint32_t i);
+
 /* The rooms of w's glass spheres (world_rooms.c), from the items' boxes
  * (the build's, item by item) and the scene's extent (its largest
  * coordinate): none in brute-force mode. Returns RT_OK or

@@ -7,6 +7,7 @@
 #include <stdio.h>
 
 #include "accel.h"
+#include "camera.h"
 #include "bvh.h"
 #include "check.h"
 #include "core_internal.h"
@@ -268,6 +269,111 @@ static void check_rooms(rt_world_mode mode)
     rt_scene_free(&s);
 }
 
+/* The camera rays' lists (world_lists.c): camera rays made as path2.c's
+ * start2 makes them (its pixel mapping, jitter in [0, 1) up to its ends,
+ * the lens's disk up to its rim, any time) get brute force's hit from their
+ * tile's list, on scenes with and without a lens, the book-1 pixel mapping
+ * too; a quarter of the rays at least come from lists. */
+static void check_lists_of(const char *name, rt_scene s, uint32_t W, uint32_t H)
+{
+    rt_camera cam;
+    CHECK_EQ_INT(rt_camera_init(&cam, &s.camera, (double)W / H), RT_OK);
+    rt_world *w, *b;
+    CHECK_EQ_INT(rt_world_build(&w, &s, RT_WORLD_BVH, 0.0, 1.0), RT_OK);
+    CHECK_EQ_INT(rt_world_build(&b, &s, RT_WORLD_BRUTE, 0.0, 1.0), RT_OK);
+    rt_world_lists *l;
+    CHECK_EQ_INT(rt_world_lists_build(&l, w, &cam, s.camera.pixels == RT_PIXELS_BOOK2, W, H), RT_OK);
+    rt_rng rng = rt_rng_for_stream(19, RT_STREAM_TEST);
+    int same = 0, listed = 0, hits = 0;
+    const int N = 40000;
+    for (int i = 0; i < N; i++) {
+        uint32_t x = (uint32_t)(rt_rng_next(&rng) % W), y = (uint32_t)(rt_rng_next(&rng) % H);
+        if (i % 3 == 0) /* a tile's edge */
+            x = (x & ~7u) + (i % 2 ? 0 : 7 < W - 1 - (x & ~7u) ? 7 : W - 1 - (x & ~7u));
+        const double ends[3] = {0.0, 0x1.fffffffffffffp-1, 0.5};
+        const double du = i % 7 < 3 ? ends[i % 7] : rt_rng_double(&rng);
+        const double dv = i % 5 < 3 ? ends[i % 5] : rt_rng_double(&rng);
+        double u, v; /* start2's mapping */
+        if (s.camera.pixels == RT_PIXELS_BOOK2) {
+            u = ((double)x + du) / (double)W;
+            v = 1.0 - ((double)y + dv) / (double)H;
+        } else {
+            u = ((double)x + du) / (double)(W > 1 ? W - 1 : 1);
+            v = ((double)(H - 1 - y) + dv) / (double)(H > 1 ? H - 1 : 1);
+        }
+        rt_vec3 d = rt_sample_unit_vector(&rng); /* on the lens's rim, or inside */
+        d = rt_v3_scale(rt_v3_unit(rt_v3(d.x, d.y, 0)), i % 3 ? rt_rng_double(&rng) : 1.0);
+        const rt_ray r = rt_camera_ray_lens(&cam, u, v, d.x, d.y);
+        const double time = rt_rng_double(&rng);
+        uint32_t first;
+        const int32_t n = rt_world_lists_tile(l, x, y, &first);
+        rt_whit a = {0, 0, 0, 0}, e = {0, 0, 0, 0};
+        const int he = rt_world_closest(b, &r, time, 0.001, INFINITY, &e);
+        const int ha = n >= 0 ? rt_world_closest_listed(w, l, first, n, &r, time, 0.001, INFINITY, &a) : he;
+        if (n < 0)
+            a = e;
+        listed += n >= 0;
+        hits += he;
+        same += ha == he && (!ha || (a.t == e.t && a.kind == e.kind && a.index == e.index && a.material == e.material));
+        if (!(ha == he && (!ha || (a.t == e.t && a.kind == e.kind && a.index == e.index))) && same + 5 > i)
+            fprintf(stderr, "  %s camera ray %d (pixel %u, %u): list %d (t %.17g kind %u index %u), brute %d (t %.17g "
+                    "kind %u index %u)\n", name, i, x, y, ha, a.t, a.kind, a.index, he, e.t, e.kind, e.index);
+    }
+    uint32_t tiles, with;
+    size_t cands;
+    rt_world_lists_stats(l, &tiles, &with, &cands);
+    fprintf(stderr, "%s lists (%ux%u, book-%d pixels, lens %g): %u of %u tiles listed, %zu items; %d camera rays, %d "
+            "from lists, %d hit, %d the same as brute force\n", name, W, H, s.camera.pixels == RT_PIXELS_BOOK2 ? 2 : 1,
+            cam.lens_radius, with, tiles, cands, N, listed, hits, same);
+    CHECK_EQ_INT(same, N);
+    CHECK(listed > N / 4);
+    rt_world_lists_free(l);
+    rt_world_free(w);
+    rt_world_free(b);
+    rt_scene_free(&s);
+}
+
+static void check_lists(const char *name, uint32_t W, uint32_t H, int book1_pixels)
+{
+    rt_scene s;
+    static const uint8_t earth[4 * 2 * 3] = {10, 20, 30, 40, 50, 60, 70, 80, 90, 100, 110, 120,
+                                             130, 140, 150, 160, 170, 180, 190, 200, 210, 220, 230, 240};
+    const rt_scene_image img = {4, 2, earth};
+    CHECK_EQ_INT(rt_scene_build_named(&s, name, 42, 11, &img), RT_OK);
+    if (book1_pixels)
+        s.camera.pixels = RT_PIXELS_SEED;
+    check_lists_of(name, s, W, H);
+}
+
+/* Shapes smaller than a pixel (spheres of a quarter pixel, slivers of
+ * quads, moving spheres), 720 of them in view, so that a list that missed
+ * a tile's edge by a fraction of a pixel would lose some: the pinhole with
+ * book 2's pixels, and a lens (out of focus before and behind) with book
+ * 1's. */
+static void check_lists_tiny(int lens)
+{
+    rt_scene s;
+    rt_scene_init(&s);
+    uint32_t m;
+    const rt_material lam = rt_scene_lambertian(rt_v3(0.5, 0.5, 0.5));
+    CHECK_EQ_INT(rt_scene_add_material(&s, &lam, &m), RT_OK);
+    rt_rng rng = rt_rng_for_stream(23, RT_STREAM_TEST);
+    for (int i = 0; i < 240; i++) {
+        const double z = 8 * rt_rng_double(&rng), k = (10 + z) / 10; /* the view's size grows with the depth */
+        const rt_vec3 c = rt_v3(k * (9 * rt_rng_double(&rng) - 4.5), k * (7 * rt_rng_double(&rng) - 3.5), z);
+        CHECK_EQ_INT(rt_scene_add_sphere(&s, c, 0.08, m), RT_OK);
+        CHECK_EQ_INT(rt_scene_add_quad(&s, rt_v3_add(c, rt_v3(0.2, 0, 0)), rt_v3(0.01, 0, 0), rt_v3(0, 0.3, 0.05), m,
+                                       NULL),
+                     RT_OK);
+        CHECK_EQ_INT(rt_scene_add_mover(&s, rt_v3_add(c, rt_v3(0, 0.2, 0)), rt_v3_add(c, rt_v3(0.1, 0.2, 0)), 0.05, m,
+                                        NULL),
+                     RT_OK);
+    }
+    s.camera = (rt_camera_desc){rt_v3(0, 0, -10), rt_v3(0, 0, 0), rt_v3(0, 1, 0), 40, lens ? 1.0 : 0.0, 10.0,
+                                lens ? RT_PIXELS_SEED : RT_PIXELS_BOOK2};
+    check_lists_of(lens ? "tiny shapes, lens" : "tiny shapes", s, 64, 48);
+}
+
 int main(void)
 {
     const rt_world_mode modes[] = {RT_WORLD_BVH, RT_WORLD_BVH_SSE, RT_WORLD_BVH_SCALAR, RT_WORLD_FLAT};
@@ -285,6 +391,14 @@ int main(void)
         check_rooms(modes[k]);
     }
     check_occluded("cornell-smoke", RT_WORLD_BRUTE);
+    const char *listed[] = {"book2-final", "cornell-box", "book3-final", "bouncing-spheres", "quads", "simple-light",
+                            "cornell-smoke", "checkered-spheres", "perlin-spheres"};
+    for (int k = 0; k < 9; k++)
+        check_lists(listed[k], 64, 48, 0);
+    check_lists("book2-final", 200, 200, 0);
+    check_lists("quads", 40, 30, 1);
+    check_lists_tiny(0);
+    check_lists_tiny(1);
     /* which scenes the CPU's best mode tests flat (world_flat.c's rule) */
     rt_scene s;
     rt_world *w;
