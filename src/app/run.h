@@ -51,6 +51,15 @@ typedef struct rt_run_cam_lists {
     rt_world_lists *world;
 } rt_run_cam_lists;
 
+/* Frees l's lists (NULL after). */
+static inline void rt_run_cam_lists_free(rt_run_cam_lists *l)
+{
+    rt_primary_free(l->primary);
+    rt_world_lists_free(l->world);
+    l->primary = NULL;
+    l->world = NULL;
+}
+
 /* What setup builds, the same on every rank. */
 typedef struct rt_run_setup {
     rt_scene scene;       /* as broadcast */
@@ -119,8 +128,7 @@ void rt_run_renderer(const rt_options *o, const rt_run_rank *rank, rt_run_setup 
  * whose former lists are freed). A status: any thread may call it. */
 int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
                           rt_run_cam_lists *lists);
-/* Frees l's lists (NULL after). */
-void rt_run_cam_lists_free(rt_run_cam_lists *l);
+
 /* Every rank: the farm's job (units, threads, the farm's policy). */
 void rt_run_job(const rt_options *o, const rt_run_rank *rank, rt_run_setup *s);
 /* The checkpoint's identity of o's image (of frame o->frame in a frame job). */

@@ -182,14 +182,6 @@ static void lists(const rt_options *o, const rt_farm *f, rt_run_setup *s)
         rt_farm_fail(f, RT_EXIT_RUNTIME, "camera-ray lists: %s", rt_status_str(st));
 }
 
-void rt_run_cam_lists_free(rt_run_cam_lists *l)
-{
-    rt_primary_free(l->primary);
-    rt_world_lists_free(l->world);
-    l->primary = NULL;
-    l->world = NULL;
-}
-
 int rt_run_frame_renderer(const rt_options *o, const rt_run_setup *s, uint32_t frame, rt_renderer *r,
                           rt_run_cam_lists *lists)
 {
