@@ -7,16 +7,12 @@
  * it samples them at diffuse vertices (nee.h), unless the job says not. */
 #include "path2.h"
 
-#include "detmath.h"
 #include "caustic.h"
+#include "flight.h"
 #include "nee.h"
 #include "path.h"
 #include "texture.h"
 #include "world.h"
-
-/* Media spans a ray can be in at once, at most (rt_scene_add_medium_*
- * refuse more media than that). */
-#define SPANS RT_SCENE_MAX_MEDIA
 
 /* The optical depth below which a segment's media are thin enough for
  * inscatter (ln 2: they scatter less than half of its light). Where they
@@ -127,134 +123,6 @@ static inline rt_vec3 scatter_sphere(path *p, const vertex *v)
     return v->ahead.sphere;
 }
 
-typedef struct span {
-    double a, b, density;
-    uint32_t medium;
-} span;
-
-/* A segment's media spans: their count, and when there are any the
- * length of the ray's direction and their whole optical depth. */
-typedef struct spans {
-    span sp[SPANS];
-    uint32_t n;
-    double len, whole;
-} spans;
-
-/* The spans of the media ray is inside within (T_MIN, t_end). */
-static inline __attribute__((always_inline)) void spans_of(const p2 *c, const rt_ray *ray, double t_end, spans *S)
-{
-    const uint32_t n = c->s->media.media.n;
-    span *sp = S->sp;
-    uint32_t ns = 0;
-    for (uint32_t k = 0; k < n && ns < SPANS; k++) {
-        const rt_medium *m = &c->s->media.media.items[k];
-        double a, b;
-        if (!(m->shape == RT_MEDIUM_SPHERE ? rt_world_sphere_span(m, ray, &a, &b)
-                                            : rt_world_medium_span(c->w, k, ray, &a, &b)))
-            continue;
-        a = a > T_MIN ? a : T_MIN;
-        b = b < t_end ? b : t_end;
-        if (b > a)
-            sp[ns++] = (span){.a = a, .b = b, .density = m->density, .medium = k};
-    }
-    S->n = ns;
-    if (!ns)
-        return;
-    S->len = rt_v3_len(ray->dir);
-    S->whole = 0;
-    for (uint32_t i = 0; i < ns; i++)
-        S->whole += sp[i].density * (sp[i].b - sp[i].a) * S->len;
-}
-
-/* Where the optical depth tau is reached through the spans (a ray's
- * direction of length len), if it is: *t, and the spans live there (their
- * density's sum *dens, their count *live, the last of them *last).
- * Densities add where spans overlap. */
-static inline __attribute__((always_inline)) int depth_reached(const span *sp, uint32_t ns, double len, double tau,
-                                                               double *t, double *dens, uint32_t *live,
-                                                               uint32_t *last)
-{
-    double x = T_MIN, next;
-    for (;;) { /* from x to the next span boundary; the spans live there */
-        next = INFINITY, *dens = 0, *live = 0, *last = 0;
-        for (uint32_t i = 0; i < ns; i++) {
-            if (sp[i].a > x && sp[i].a < next)
-                next = sp[i].a;
-            if (sp[i].b > x && sp[i].b < next)
-                next = sp[i].b;
-            if (sp[i].a <= x && sp[i].b > x)
-                *dens += sp[i].density, ++*live, *last = i;
-        }
-        if (next == INFINITY)
-            return 0;
-        const double depth = *dens * (next - x) * len;
-        if (*dens > 0 && tau < depth) {
-            *t = x + tau / (*dens * len);
-            break;
-        }
-        tau -= depth;
-        x = next;
-    }
-    /* The spans live at *t are those live at x when *t < next (x <= *t,
-     * as x plus a quotient >= 0 rounds; no span starts or ends in (x,
-     * next)), and their densities' sum in order is *dens; else (*t rounded
-     * up to next) count them again. */
-    if (!(*t < next)) {
-        *dens = 0, *live = 0, *last = 0;
-        for (uint32_t i = 0; i < ns; i++)
-            if (sp[i].a <= *t && sp[i].b > *t)
-                *dens += sp[i].density, ++*live, *last = i;
-    }
-    return 1;
-}
-
-/* Where in (T_MIN, t_end) the path scatters in the media, if it does:
- * one optical depth -ln(u) walked through the spans where the ray is inside
- * media (densities add where they overlap: the first of independent
- * exponential flights, as the book's media give when each draws its own),
- * then, where several overlap, which one in proportion to its density.
- * Returns 1 with *t and *medium. */
-static int medium_event(path *p, const spans *S, double *t, uint32_t *medium)
-{
-    const span *sp = S->sp;
-    const uint32_t ns = S->n;
-    if (!ns)
-        return 0;
-    const double len = S->len, whole = S->whole;
-    const double u = rt_sampler_get1d(&p->smp);
-    /* No event when u passes the spans' whole optical depth: -ln(1 - u) >= u,
-     * so the flight is longer than the depth too; a margin far above the
-     * rounding of the depth's sum, of 1 - u and of rt_det_log keeps every
-     * decision as the walk's. Most of book2-final's thin fog's segments end
-     * here, without the logarithm. */
-    if (u > whole * (1.0 + 1e-6) + 1e-12)
-        return 0;
-    const double tau = -rt_det_log(1.0 - u); /* (0, inf]: 1 - u is in (0, 1] */
-    if (ns == 1) { /* one span (book2-final's fog): the walk below in one step, the same operations */
-        if (!(sp[0].density > 0 && tau < whole))
-            return 0;
-        *t = sp[0].a + tau / (sp[0].density * len);
-        *medium = sp[0].medium;
-        return 1;
-    }
-    double dens;
-    uint32_t live, last;
-    if (!depth_reached(sp, ns, len, tau, t, &dens, &live, &last))
-        return 0;
-    /* Which medium: the first whose share of the density passes u. */
-    *medium = sp[last].medium;
-    if (live > 1) {
-        double acc = 0;
-        const double u = rt_sampler_get1d(&p->smp) * dens;
-        for (uint32_t i = 0; i < ns; i++)
-            if (sp[i].a <= *t && sp[i].b > *t && (acc += sp[i].density) > u) {
-                *medium = sp[i].medium;
-                break;
-            }
-    }
-    return 1;
-}
-
 static rt_vec3 clamp3(rt_vec3 v) { return rt_v3(clamp01(v.x), clamp01(v.y), clamp01(v.z)); }
 
 /* The background's light for a path that leaves the scene. */
@@ -350,9 +218,9 @@ static void scatter_medium(const p2 *c, path *p, vertex *v, uint32_t k, double t
  * the bounce's +10 (the distance), +11 (the light; its rest decides q,
  * then the roulette), +12-13 (the point on it) (sampler.h). Unbiased:
  * test_lights's furnace with fog. */
-static int inscatter(const p2 *c, path *p, const vertex *v, const spans *S)
+static int inscatter(const p2 *c, path *p, const vertex *v, const rt_spans *S)
 {
-    const span *sp = S->sp;
+    const rt_span *sp = S->sp;
     const uint32_t ns = S->n;
     if (!(c->inscatter && v->pdf == 0.0 && lit(c, v) && ns && S->whole < RT_INSCATTER_THIN))
         return 0;
@@ -498,17 +366,17 @@ static void trace2(const p2 *c, path *p, double time, uint64_t *segments)
         look_ahead(c, p, &v);
         rt_whit h;
         const int found = depth == 0 && c->pc.pn >= 0
-                              ? rt_world_closest_listed(c->w, r->wlists, c->pc.pfirst, c->pc.pn, &p->ray, time, 0.001,
+                              ? rt_world_closest_listed(c->w, r->wlists, c->pc.pfirst, c->pc.pn, &p->ray, time, T_MIN,
                                                         INFINITY, &h)
                               : rt_nee_closest(r, &p->ray, time, have_last ? &last : NULL, &h);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_FLIGHT);
         double tm;
         uint32_t k;
-        spans S;
+        rt_spans S;
         S.n = 0;
         if (c->s->media.media.n)
-            spans_of(c, &p->ray, found ? h.t : INFINITY, &S);
-        const int in_medium = medium_event(p, &S, &tm, &k);
+            rt_flight_spans_of(c->s, c->w, &p->ray, found ? h.t : INFINITY, &S);
+        const int in_medium = rt_flight_event(&p->smp, &S, &tm, &k);
         const int forced = c->inscatter && inscatter(c, p, &v, &S);
         rt_sampler_seek(&p->smp, v.base + RT_SAMPLER2_SCATTER);
         if (in_medium) {
