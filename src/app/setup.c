@@ -116,7 +116,7 @@ rt_exit_code rt_run_scene(const rt_options *o, const rt_run_rank *rank, rt_run_s
         rt_scene_free(&built);
     }
     rt_farm_bcast_bytes(&rank->farm, &blob, &len);
-    int st = rt_scene_deserialize(&s->scene, blob, len);
+    int st = rank->root ? rt_scene_deserialize_own(&s->scene, blob, len) : rt_scene_deserialize(&s->scene, blob, len);
     if (st)
         rt_farm_fail(&rank->farm, RT_EXIT_RUNTIME, "decoding the broadcast scene: %s", rt_status_str(st));
     s->scene_hash = rt_scene_bytes_hash(blob, len); /* the bytes' FNV-1a, from their checked checksum */

@@ -407,6 +407,15 @@ static void check_bytes(void)
         CHECK_EQ_INT(rt_scene_deserialize(&t, b1, n1), RT_OK);
         CHECK_EQ_INT(rt_scene_serialize(&t, &b2, &n2), RT_OK);
         rt_scene_free(&t);
+        { /* rank 0's own bytes: the same scene without the checksum's pass */
+            uint8_t *b3;
+            size_t n3;
+            CHECK_EQ_INT(rt_scene_deserialize_own(&t, b1, n1), RT_OK);
+            CHECK_EQ_INT(rt_scene_serialize(&t, &b3, &n3), RT_OK);
+            CHECK(n3 == n1 && memcmp(b3, b1, n1) == 0);
+            rt_scene_free(&t);
+            free(b3);
+        }
         if (!(n1 == n2 && memcmp(b1, b2, n1) == 0)) {
             size_t k = 0;
             while (k < n1 && k < n2 && b1[k] == b2[k])
