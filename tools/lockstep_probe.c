@@ -195,6 +195,7 @@ static void render_scalar(void)
 typedef struct {
     __m512d ox, oy, oz, dx, dy, dz, tr, tg, tb;
     __m512i job, depth;
+    __m512i key, rev; /* sobol8: each lane's pixel key and bit-reversed sample index */
 } lanes;
 
 #define B(x) _mm512_set1_pd(x)
@@ -310,10 +311,38 @@ static void lane_sampler(int l, uint32_t j)
 }
 
 /* each continuing lane's bounce number */
+/* sampler.h's rt_sampler_get2d at the bounce's scattering pair (4 x
+ * depth) in eight lanes, every step of its definition (rt_sampler_pair_keys,
+ * rt_sampler_nested, rt_sampler_point_of) on 64-bit lanes: sums, products
+ * and xors of the 32-bit steps keep their low 32 bits, masked at the end */
+static inline __m512i sobol8(const lanes *L)
+{
+    const __m512i lo32 = I(0xffffffffULL);
+    const __m512i pair = _mm512_slli_epi64(L->depth, 2);
+    const __m512i h =
+        mix8(_mm512_xor_si512(L->key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(0x9fb21c651e98df25ULL))));
+    const __m512i seed = _mm512_and_si512(h, lo32);
+    const __m512i shift = _mm512_or_si512(_mm512_andnot_si512(lo32, h),
+                                          _mm512_srli_epi64(_mm512_mullo_epi64(h, I(0xd1b54a32d192ed03ULL)), 32));
+    __m512i x = _mm512_add_epi64(L->rev, seed);
+    x = _mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0x3c6ef372u)));
+    x = _mm512_mullo_epi64(x, _mm512_or_si512(seed, I(1)));
+    x = _mm512_and_si512(_mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0xa54ff53au))), lo32);
+    __m512i v = x;
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 1), I(0xaaaaaaaau)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 2), I(0xccccccccu)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 4), I(0xf0f0f0f0u)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 8), I(0xff00ff00u)));
+    v = _mm512_and_si512(_mm512_xor_si512(v, _mm512_slli_epi64(v, 16)), lo32);
+    return _mm512_xor_si512(_mm512_or_si512(_mm512_slli_epi64(x, 32), v), shift);
+}
+
 static inline __m512i bounce8(const lanes *L, __mmask8 cont, int sobol)
 {
     if (!sobol)
         return bounce_bits8(L->job, L->depth);
+    if (sobol == 2)
+        return sobol8(L);
     int64_t __attribute__((aligned(64))) dep[8];
     uint64_t __attribute__((aligned(64))) u[8] = {0};
     _mm512_store_si512(dep, L->depth);
@@ -340,10 +369,22 @@ static __mmask8 refill8(lanes *L, __mmask8 live, __mmask8 ended, uint32_t *next,
         return live;
     const __m512i j = _mm512_add_epi64(_mm512_maskz_expand_epi64(ended, _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7)),
                                        _mm512_set1_epi64(*next));
-    if (sobol) {
+    if (sobol == 1) {
         uint32_t jj = *next;
         for (__mmask8 m = ended; m; m &= m - 1)
             lane_sampler(__builtin_ctz(m), jj++);
+    } else if (sobol == 2) { /* the lanes' keys and bit-reversed indices, as rt_sampler_start makes them */
+        int64_t __attribute__((aligned(64))) key[8], rev[8];
+        _mm512_store_si512(key, L->key);
+        _mm512_store_si512(rev, L->rev);
+        uint32_t jj = *next;
+        for (__mmask8 m = ended; m; m &= m - 1, jj++) {
+            const int l = __builtin_ctz(m);
+            key[l] = (int64_t)mix64(jj / SPP + 42u);
+            rev[l] = (int64_t)(rt_sampler_pair0(jj % SPP) >> 32);
+        }
+        L->key = _mm512_load_si512(key);
+        L->rev = _mm512_load_si512(rev);
     }
     *next += k;
     const __m512d pix = _mm512_cvtepi64_pd(_mm512_srli_epi64(j, SPP_LOG2));
@@ -456,7 +497,7 @@ int main(int argc, char **argv)
     if (!strcmp(which, "scalar"))
         render_scalar();
     else
-        render_lanes(!strcmp(which, "sobol"));
+        render_lanes(!strcmp(which, "sobol") ? 1 : !strcmp(which, "sobol8") ? 2 : 0);
     const double sec = now() - t0;
     double sum = 0;
     uint64_t hash = 0xcbf29ce484222325ULL; /* FNV-1a of the sums */

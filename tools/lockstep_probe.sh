@@ -7,13 +7,14 @@
 #   - rt-mpi (default build/rt-mpi): cornell-box, 200 x 200, 16 spp, depth
 #     40, -j 1, --no-roulette --no-light-sampling: its render time over its
 #     ray segments (--stats);
-#   - the probe's three loops: scalar (one path at a time, every quad in
-#     turn), lanes (eight paths a register, numbers from a hash) and sobol
-#     (lanes, with rt-mpi's Sobol sampler drawn lane by lane).
+#   - the probe's four loops: scalar (one path at a time, every quad in
+#     turn), lanes (eight paths a register, numbers from a hash), sobol
+#     (lanes, with rt-mpi's Sobol sampler drawn lane by lane) and sobol8
+#     (the same numbers computed for the eight lanes in vector code).
 # Prints nanoseconds a ray segment, the least and the median of the rounds,
 # and rt-mpi's over each loop's. First it checks that scalar and lanes
 # trace the same segments to the bit (a build with -DPROBE_CHECK prints a
-# fingerprint of every hit): exit 1 if not. Needs a CPU with AVX-512 F and
+# fingerprint of every hit), and sobol and sobol8 too: exit 1 if not. Needs a CPU with AVX-512 F and
 # DQ (exit 2 without).
 set -euo pipefail
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -43,20 +44,26 @@ done
 [ -s "$TMP/lanes.check" ] && cmp -s "$TMP/scalar.check" "$TMP/lanes.check" ||
     { echo "lockstep_probe.sh: error: lanes (image hash, fingerprint) $(cat "$TMP/lanes.check") != scalar's $(cat "$TMP/scalar.check")" >&2; exit 1; }
 echo "scalar and lanes: the same segments (image hash, fingerprint: $(cat "$TMP/lanes.check"))"
+for v in sobol sobol8; do
+    "$TMP/probe-DPROBE_CHECK" $v | sed -n 's/.*image hash \([0-9a-f]*\), segments. fingerprint \([0-9a-f]*\)$/\1 \2/p' >"$TMP/$v.check"
+done
+[ -s "$TMP/sobol8.check" ] && cmp -s "$TMP/sobol.check" "$TMP/sobol8.check" ||
+    { echo "lockstep_probe.sh: error: sobol8 (image hash, fingerprint) $(cat "$TMP/sobol8.check") != sobol's $(cat "$TMP/sobol.check")" >&2; exit 1; }
+echo "sobol and sobol8: the same segments (image hash, fingerprint: $(cat "$TMP/sobol8.check"))"
 
 for r in $(seq "$ROUNDS"); do
     "$BIN" --scene cornell-box --width 200 --height 200 -s 16 --max-depth 40 -j 1 --no-roulette \
         --no-light-sampling --no-checkpoint --quiet -o "$TMP/rt.png" --stats "$TMP/rt.json" >/dev/null
     /usr/bin/python3 -c "import json,sys; d=json.load(open(sys.argv[1])); print(d['render_seconds']/d['ray_segments']*1e9)" \
         "$TMP/rt.json" >>"$TMP/rt-mpi"
-    for v in scalar lanes sobol; do
+    for v in scalar lanes sobol sobol8; do
         "$TMP/probe" $v | sed -n 's/.*, \([0-9.]*\) ns a segment.*/\1/p' >>"$TMP/$v"
     done
 done
 least() { sort -g | head -1; }
 printf '%-36s %10s %10s %14s\n' "cornell-box brute force, 200x200, 16 spp" "least ns" "median ns" "rt-mpi / it"
 REF=$(least <"$TMP/rt-mpi")
-for v in rt-mpi scalar lanes sobol; do
+for v in rt-mpi scalar lanes sobol sobol8; do
     L=$(least <"$TMP/$v") M=$(median <"$TMP/$v")
     printf '%-36s %10.2f %10.2f %14s\n' "$v" "$L" "$M" "$(ratio "$REF" "$L")"
 done
