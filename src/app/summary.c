@@ -237,6 +237,8 @@ static void print_intersector(const rt_options *o, const rt_run_setup *s, const 
         printf("avx-512 flat test of %u quads, ", rt_accel_flat_quads(s->accel));
     if (s->renderer.bvh_avx)
         printf("packets of %d rays, ", RT_RENDER_PACKET);
+    if (s->renderer.lanes)
+        printf("avx-512 paths 8 a register, ");
     if (l->built)
         printf("camera-ray lists on %u of %u tiles, ", l->listed, l->tiles);
     printf("%.0f KiB)\n", (rt_accel_bytes(s->accel) + l->bytes) / 1024.0);

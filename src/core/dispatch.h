@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "path_lanes.h"
 #include "render.h"
 
 /* Adds samples [s0, s1) of pixel (x, y) to its values px (r->lay) and
@@ -30,6 +31,23 @@ static inline uint64_t rt_dispatch_block_pixel(const rt_renderer *r, rt_dispatch
 {
     uint32_t x = x0 + (uint32_t)(i % w), y = y0 + (uint32_t)(i / w);
     return fn(r, x, y, s0, s1, acc + i * r->lay.ch);
+}
+
+/* The run of pixels of such a block that starts at pixel i and ends by
+ * b: in the lanes (r->lanes) as many pixels as keep them busy
+ * (rt_path_lanes_run_pixels), else pixel i alone; *next: the pixel after
+ * it. Returns the ray segments traced. */
+static inline uint64_t rt_dispatch_block_run(const rt_renderer *r, rt_dispatch_fn fn, uint32_t x0, uint32_t w,
+                                             uint32_t y0, uint32_t s0, uint32_t s1, long i, long b, int64_t *acc,
+                                             long *next)
+{
+    if (!r->lanes) {
+        *next = i + 1;
+        return rt_dispatch_block_pixel(r, fn, x0, w, y0, s0, s1, i, acc);
+    }
+    const long n = (long)rt_path_lanes_run_pixels(s1 - s0);
+    *next = b - i < n ? b : i + n;
+    return rt_path_lanes_run(r, x0, w, y0, s0, s1, i, *next, acc);
 }
 
 #endif

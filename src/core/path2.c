@@ -11,6 +11,7 @@
 #include "flight.h"
 #include "nee.h"
 #include "path.h"
+#include "path2_start.h"
 #include "texture.h"
 #include "world.h"
 
@@ -66,30 +67,7 @@ typedef struct vertex {
 } vertex;
 
 /* A new path for sample `sample`: its camera ray and its time. */
-static void start2(const p2 *c, uint32_t sample, path *p, double *time)
-{
-    const rt_renderer *r = c->r;
-    const uint32_t W = r->job.width, H = r->job.height;
-    p->smp = rt_sampler_start(&c->pc.smp, sample);
-    p->thr = rt_v3(1, 1, 1);
-    p->col = rt_v3(0, 0, 0);
-    p->aov = (aov_rec){0, {0, 0, 0}, {0, 0, 0}};
-    double du, dv, u, v;
-    rt_sampler_pixel2d(&p->smp, &du, &dv);
-    if (c->s->camera.pixels == RT_PIXELS_BOOK2) { /* pixel centres, jitter in [-0.5, 0.5) */
-        u = ((double)c->pc.x + du) / (double)W;
-        v = 1.0 - ((double)c->pc.y + dv) / (double)H;
-    } else {
-        u = ((double)c->pc.x + du) / (double)(W > 1 ? W - 1 : 1);
-        v = ((double)(H - 1 - c->pc.y) + dv) / (double)(H > 1 ? H - 1 : 1);
-    }
-    rt_vec3 d = {0, 0, 0};
-    if (r->camera.lens_radius > 0.0)
-        d = rt_sampler_lens(&p->smp);
-    p->ray = rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
-    rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_TIME);
-    *time = r->time0 + rt_sampler_get1d(&p->smp) * (r->time1 - r->time0); /* [0, 1): u itself */
-}
+static void start2(const p2 *c, uint32_t sample, path *p, double *time) { rt_path2_start(c->r, &c->pc, sample, p, time); }
 
 /* v's scattering numbers ahead of the walk (the random sampler's depend
  * on the draws before them: none then). */

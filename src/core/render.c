@@ -14,6 +14,7 @@
 #include "lights.h"
 #include "path.h"
 #include "path2.h"
+#include "path_lanes.h"
 #include "status.h"
 
 int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const rt_job *job)
@@ -35,6 +36,7 @@ int rt_render_init(rt_renderer *r, const rt_scene *s, const rt_accel *a, const r
     r->light_targets = rt_lights_target_count(r->lights);
     r->no_look_ahead = 0;
     r->no_caustic = 0;
+    r->lanes = rt_path_lanes_for(r);
     return rt_render_frame(r, &s->camera, 0.0, 1.0);
 }
 

@@ -134,6 +134,10 @@ typedef struct rt_renderer {
      * images must be the same bits. 0 after rt_render_init. */
     int no_look_ahead;
     int no_caustic; /* tests, experiments: no next-event estimation through glass spheres (caustic.h) */
+    /* The book-2 loop runs in AVX-512 lanes, eight paths at a time
+     * (path_lanes.h: scenes of a few quads without light sampling, on CPUs
+     * that have it): set by rt_render_init, the same image either way. */
+    int lanes;
 } rt_renderer;
 
 /* A renderer of s's camera, its rays' time in the book's [0, 1). */

@@ -153,12 +153,12 @@ static void stream_thread(stream *st)
     while ((su = stream_claim(st, master, &a, &b))) {
         pthread_mutex_unlock(&st->mu);
         uint64_t segs = 0;
-        for (long i = a; i < b && !rt_dispatch_stopped(r); i++) {
-            segs += rt_dispatch_block_pixel(su->r, su->fn, su->u.x0, su->u.x1 - su->u.x0, su->y0, su->u.s0, su->u.s1,
-                                            i, su->buf);
-            /* the master polls after every pixel (the source decides how
-             * often to really look), and so right after a unit is done:
-             * its next pixel, or its idle poll in stream_claim */
+        for (long i = a, next; i < b && !rt_dispatch_stopped(r); i = next) {
+            segs += rt_dispatch_block_run(su->r, su->fn, su->u.x0, su->u.x1 - su->u.x0, su->y0, su->u.s0, su->u.s1, i,
+                                          b, su->buf, &next);
+            /* the master polls after every pixel or run of them (the source
+             * decides how often to really look), and so right after a unit
+             * is done: its next pixel, or its idle poll in stream_claim */
             if (master && st->src->poll && st->src->poll(st->src->ctx, 0)) {
                 pthread_mutex_lock(&st->mu); /* so that a thread between take and its wait cannot miss it */
                 pthread_cond_broadcast(&st->freed);

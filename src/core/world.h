@@ -62,6 +62,16 @@ int rt_world_uses_avx(const rt_world *w);
 /* The quads w tests all at once instead of walking its tree (world_flat.c:
  * RT_WORLD_BVH in a scene of a few quads on a CPU with AVX-512), or 0. */
 uint32_t rt_world_flat_quads(const rt_world *w);
+/* The world's quads as rows for tests of many rays at once (path_lanes.c):
+ * row k of quad i at rows[k * max + i], rows 0-2 its corner q, 3-5 its
+ * unit normal, 6-8 and 9-11 the vectors whose dot products with a point's
+ * offset from q are its edge coordinates, 12 its plane's offset (the
+ * scalar test's values, world_internal.h's quad_x), and each quad's
+ * material in mat[i]. Returns the count when every item is a static quad,
+ * at most max of them, and w walks its tree's AVX test or the flat test
+ * (RT_WORLD_BVH: the other modes stay the oracles the tests compare
+ * with); else 0. */
+uint32_t rt_world_quad_rows(const rt_world *w, double *rows, uint32_t *mat, uint32_t max);
 
 /* The closest quad, moving sphere (at the ray's time) or static sphere
  * with tmin < t <= tmax: the least t, of equal ones the quads before the

@@ -200,3 +200,21 @@ int rt_world_flat_build(rt_world *w, int force, double leaves_per_ray)
 void rt_world_flat_pick(rt_world *w) { (void)w; }
 
 #endif
+
+uint32_t rt_world_quad_rows(const rt_world *w, double *rows, uint32_t *mat, uint32_t max)
+{
+    if (w->mode != RT_WORLD_BVH || !w->nq || w->nq != w->nitems || w->nq > max)
+        return 0;
+    for (uint32_t i = 0; i < w->nq; i++) {
+        const quad_x *x = &w->quads[i];
+        const rt_vec3 v[4] = {x->q, x->n, x->ea, x->eb};
+        for (int k = 0; k < 4; k++) {
+            rows[(3 * k + 0) * max + i] = v[k].x;
+            rows[(3 * k + 1) * max + i] = v[k].y;
+            rows[(3 * k + 2) * max + i] = v[k].z;
+        }
+        rows[12 * max + i] = x->d;
+        mat[i] = w->mat[i];
+    }
+    return w->nq;
+}

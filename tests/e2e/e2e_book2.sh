@@ -56,7 +56,8 @@ same_as() { # label ref.png cmd...
 }
 # Lit scenes sample their lights (a quad; a quad and a sphere in
 # simple-light; through media in cornell-smoke and book2-final), or not.
-for s in book2-final cornell-smoke bouncing-spheres simple-light "cornell-smoke --no-light-sampling"; do
+for s in book2-final cornell-smoke bouncing-spheres simple-light "cornell-smoke --no-light-sampling" \
+    "cornell-box --no-light-sampling" quads; do
     A=(--scene $s "${T[@]}" --width 48 --height 36 -s 8 --max-depth 12)
     for sm in sobol random; do
         "$BIN" "${A[@]}" --sampler $sm -j 1 -q -o "$WORK/ref-$s-$sm.png" >/dev/null 2>&1
@@ -75,11 +76,23 @@ done
 # The world's walk and brute force give the same image, also where the
 # glass spheres' rooms answer without the walk (world_rooms.c): book2-final's
 # smoke in a glass sphere, book3-final's glass sphere.
-for s in book2-final book3-final; do
+# So do the paths eight at a time in AVX-512 lanes (path_lanes.c), which
+# quads-only scenes without light sampling run on CPUs that have them.
+for s in book2-final book3-final cornell-box quads; do
     A=(--scene $s "${T[@]}" --width 32 --height 24 -s 4 --max-depth 40 --no-light-sampling)
-    "$BIN" "${A[@]}" -j 2 -q -o "$WORK/walk-$s.png" >/dev/null 2>&1
+    "$BIN" "${A[@]}" -j 2 -o "$WORK/walk-$s.png" >"$WORK/walk-$s.out" 2>&1
     same_as "$s --accel brute" "$WORK/walk-$s.png" "$BIN" "${A[@]}" -j 2 --accel brute
 done
+if grep -q avx512dq /proc/cpuinfo; then
+    for s in cornell-box quads; do
+        grep -q "avx-512 paths 8 a register" "$WORK/walk-$s.out" && pass "$s: paths in AVX-512 lanes" ||
+            fail "$s: not in the lanes: $(grep intersector "$WORK/walk-$s.out")"
+    done
+    grep -q "avx-512 paths" "$WORK/walk-book2-final.out" && fail "book2-final in the lanes" ||
+        pass "book2-final: not in the lanes (its spheres and media)"
+else
+    skip "the AVX-512 lanes: this CPU has no AVX-512 DQ"
+fi
 # Adaptive sampling and the buffers run the book-2 loop too.
 A=(--scene cornell-smoke --width 48 --height 36 -s 64 --max-depth 12 --noise-threshold 0.05 --aov albedo,normal)
 "$BIN" "${A[@]}" -j 1 -q -o "$WORK/ad1.png" >/dev/null 2>&1

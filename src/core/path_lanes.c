@@ -1,0 +1,457 @@
+/* path_lanes.c - the book-2 path loop eight paths at a time, one in each
+ * double lane of an AVX-512 register, for scenes of a few quads rendered
+ * without light sampling (book 2's Cornell box and quads): every quad
+ * tested against eight rays at once, the lambertian bounce and its Sobol
+ * number in vector code, a lane whose path ends given the next sample at
+ * once (of its pixel or of the run's next pixels). A path is one chain of
+ * dependent work (the division, the hit point, the bounce); eight
+ * independent ones side by side turn its latency into throughput
+ * (tools/lockstep_probe.sh measured the loop first).
+ *
+ * The same bits as path2.c's trace2, lane by lane: each lane does the
+ * scalar code's IEEE operations in its order (no fused multiply-add:
+ * -ffp-contract=off) in the quad test (world_internal.h's rt_quad_t, the
+ * least t and on a tie the lowest quad, as every walk and brute force),
+ * the hit point, the normal facing the ray, the bounce (warp.h's
+ * rt_warp_lambert_of of sample.h's unit vector: its quarter turns and
+ * polynomials) and the throughput; the Sobol numbers are sampler.h's
+ * definition, step by step; paths start (the camera), end (the sky,
+ * emitters, the pixel's sums) and meet the roulette in the scalar code
+ * trace2 runs. test e2e_book2 renders such scenes with the tree or brute
+ * force (path2.c) and with the lanes: the same image. CPUs without
+ * AVX-512 (F and DQ) run trace2. */
+#include "path_lanes.h"
+
+#include <string.h>
+
+#include "bvh.h"
+#include "path.h"
+#include "path2_start.h"
+#include "texture.h"
+#include "world.h"
+
+/* Quads a scene has at most for the lanes (every one is tested against
+ * every ray: past this the tree's walk costs less). */
+#define LANES_QUADS 32
+
+/* sobol8's pair: 4 a bounce, the scattering's the bounce's second */
+_Static_assert(RT_SAMPLER2_BOUNCE_DIMS == 8 && RT_SAMPLER2_SCATTER == 2 && RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
+               "path_lanes.c: the book-2 layout of a bounce's dimensions changed");
+
+int rt_path_lanes_for(const rt_renderer *r)
+{
+#if RT_BVH_HAVE_AVX
+    __builtin_cpu_init();
+    if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512dq"))
+        return 0;
+    const rt_scene *s = r->scene;
+    if (!r->world || r->lights || r->job.diffuse != RT_DIFFUSE_LAMBERTIAN || r->job.sampler != RT_SAMPLER_SOBOL ||
+        r->lay.ch != 3 || s->media.media.n)
+        return 0;
+    double rows[13 * LANES_QUADS];
+    uint32_t mat[LANES_QUADS];
+    const uint32_t n = rt_world_quad_rows(r->world, rows, mat, LANES_QUADS);
+    for (uint32_t i = 0; i < n; i++) {
+        const rt_material *m = &s->materials[mat[i]];
+        if (m->texture || (m->kind != RT_MAT_LAMBERTIAN && m->kind != RT_MAT_EMITTER))
+            return 0;
+    }
+    return n > 0;
+#else
+    (void)r;
+    return 0;
+#endif
+}
+
+uint32_t rt_path_lanes_run_pixels(uint32_t samples)
+{
+    /* enough paths that the lanes stay busy to the run's end (a run of 128
+     * paths of book 2's Cornell box keeps about 91 % of the lane steps),
+     * and no more, so that the farm's master still polls often */
+    const uint32_t n = (RT_PATH_LANES_RUN_PATHS + samples - 1) / (samples ? samples : 1);
+    return n < 1 ? 1 : n > RT_PATH_LANES_RUN_PIXELS ? RT_PATH_LANES_RUN_PIXELS : n;
+}
+
+#if RT_BVH_HAVE_AVX
+#include <immintrin.h>
+
+#ifdef __clang__
+#pragma clang attribute push(__attribute__((target("avx512f,avx512dq"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512dq")
+#endif
+
+#define B(x) _mm512_set1_pd(x)
+#define I(x) _mm512_set1_epi64((long long)(x))
+#define ADD _mm512_add_pd
+#define SUB _mm512_sub_pd
+#define MUL _mm512_mul_pd
+
+/* The run's quads (rt_world_quad_rows) and what their hits do. */
+typedef struct quads {
+    _Alignas(64) double row[13][LANES_QUADS];
+    double col[3][LANES_QUADS]; /* albedo, or emission */
+    double emitter[LANES_QUADS], two_sided[LANES_QUADS];
+    uint32_t n;
+} quads;
+
+/* The eight lanes: each one's ray, throughput, depth, and its sample's
+ * sampler key and bit-reversed index (the Sobol numbers' inputs). */
+typedef struct lanes {
+    _Alignas(64) double o[3][8];
+    double d[3][8], thr[3][8];
+    int64_t depth[8], key[8], rev[8];
+} lanes;
+
+/* Each lane's path as the scalar code sees it. */
+typedef struct lane {
+    path p;
+    int64_t *px; /* its pixel's sums */
+} lane;
+
+#define LD(p) _mm512_load_pd(p)
+
+/* Nearest quad of eight rays in (T_MIN, inf): rt_quad_t's operations per
+ * lane, the least t and on a tie the lowest quad; *id -1 for none. */
+static inline __attribute__((always_inline)) __m512d closest8(const quads *Q, const __m512d o[3], const __m512d d[3],
+                                                              __m512i *id)
+{
+    __m512d best = B(INFINITY);
+    __m512i near = I(-1);
+    for (uint32_t q = 0; q < Q->n; q++) {
+        const __m512d nx = B(Q->row[3][q]), ny = B(Q->row[4][q]), nz = B(Q->row[5][q]);
+        const __m512d den = ADD(ADD(MUL(nx, d[0]), MUL(ny, d[1])), MUL(nz, d[2]));
+        const __m512d no = ADD(ADD(MUL(nx, o[0]), MUL(ny, o[1])), MUL(nz, o[2]));
+        const __m512d t = _mm512_div_pd(SUB(B(Q->row[12][q]), no), den);
+        const __m512d hx = SUB(ADD(o[0], MUL(d[0], t)), B(Q->row[0][q]));
+        const __m512d hy = SUB(ADD(o[1], MUL(d[1], t)), B(Q->row[1][q]));
+        const __m512d hz = SUB(ADD(o[2], MUL(d[2], t)), B(Q->row[2][q]));
+        const __m512d a = ADD(ADD(MUL(hx, B(Q->row[6][q])), MUL(hy, B(Q->row[7][q]))), MUL(hz, B(Q->row[8][q])));
+        const __m512d b = ADD(ADD(MUL(hx, B(Q->row[9][q])), MUL(hy, B(Q->row[10][q]))), MUL(hz, B(Q->row[11][q])));
+        /* a and b in [0, 1], t - T_MIN and |den| - 1e-8 at least 0, in one
+         * min (each difference is >= 0 exactly when its compare holds). A
+         * NaN operand makes min return its other one, so the NaNs are ruled
+         * out apart: t's by the compare t > T_MIN, a's and b's (a hit point
+         * that overflowed, where the scalar test's compares all fail) by
+         * one compare of the two. Infinite a or b make the min -inf. */
+        const __m512d in = _mm512_min_pd(_mm512_min_pd(a, b), _mm512_min_pd(SUB(B(1), a), SUB(B(1), b)));
+        const __m512d ok = _mm512_min_pd(_mm512_min_pd(in, SUB(t, B(T_MIN))), SUB(_mm512_abs_pd(den), B(1e-8)));
+        const __mmask8 sane = _mm512_cmp_pd_mask(t, B(T_MIN), _CMP_GT_OQ) & _mm512_cmp_pd_mask(a, b, _CMP_ORD_Q);
+        const __mmask8 m = _mm512_mask_cmp_pd_mask(sane, ok, _mm512_setzero_pd(), _CMP_GE_OQ);
+        const __m512d tm = _mm512_mask_mov_pd(B(INFINITY), m, t);
+        near = _mm512_mask_mov_epi64(near, _mm512_cmp_pd_mask(tm, best, _CMP_LT_OQ), I(q));
+        best = _mm512_min_pd(tm, best);
+    }
+    *id = near;
+    return best;
+}
+
+/* sampler.h's Sobol 2D number of each lane's bounce (pair 4 + 4 depth:
+ * the book-2 layout's scattering pair, RT_SAMPLER2_DIM_BOUNCE + 8 depth +
+ * RT_SAMPLER2_SCATTER over 2): rt_sampler_pair_keys, rt_sampler_nested and
+ * rt_sampler_point_of on 64-bit lanes. The 32-bit steps' sums, products
+ * and xors keep their low 32 bits in a lane's low half: masked at the end. */
+static inline __attribute__((always_inline)) __m512i mix8(__m512i z)
+{
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), I(0xbf58476d1ce4e5b9ULL));
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), I(0x94d049bb133111ebULL));
+    return _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
+}
+
+static inline __attribute__((always_inline)) __m512i sobol8(__m512i depth, __m512i key, __m512i rev)
+{
+    const __m512i lo32 = I(0xffffffffULL);
+    const __m512i pair = _mm512_add_epi64(_mm512_slli_epi64(depth, 2), I(RT_SAMPLER2_DIM_BOUNCE / 2 + 1));
+    const __m512i h =
+        mix8(_mm512_xor_si512(key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(0x9fb21c651e98df25ULL))));
+    const __m512i seed = _mm512_and_si512(h, lo32);
+    const __m512i shift =
+        _mm512_or_si512(_mm512_andnot_si512(lo32, h), _mm512_srli_epi64(_mm512_mullo_epi64(h, I(0xd1b54a32d192ed03ULL)), 32));
+    __m512i x = _mm512_add_epi64(rev, seed);
+    x = _mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0x3c6ef372u)));
+    x = _mm512_mullo_epi64(x, _mm512_or_si512(seed, I(1)));
+    x = _mm512_and_si512(_mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0xa54ff53au))), lo32);
+    __m512i v = x;
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 1), I(0xaaaaaaaau)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 2), I(0xccccccccu)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 4), I(0xf0f0f0f0u)));
+    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 8), I(0xff00ff00u)));
+    v = _mm512_and_si512(_mm512_xor_si512(v, _mm512_slli_epi64(v, 16)), lo32);
+    return _mm512_xor_si512(_mm512_or_si512(_mm512_slli_epi64(x, 32), v), shift);
+}
+
+/* rt_warp_lambert_of(rt_warp_sphere(u), n) in eight lanes: z from u's
+ * high 32 bits, the azimuth's quarter turn and its rest from the low 32,
+ * the sine and cosine polynomials in sample.h's Horner order; n where n
+ * plus the direction is near zero (rt_v3_near_zero). */
+static inline __attribute__((always_inline)) void lambert8(__m512i u, const __m512d n[3], __m512d d[3])
+{
+    const __m512d hi = _mm512_cvtepu64_pd(_mm512_srli_epi64(u, 32));
+    const __m512d z = ADD(SUB(MUL(hi, B(0x1.0p-31)), B(1.0)), B(0x1.0p-32));
+    const __m512d rho = _mm512_sqrt_pd(MUL(SUB(B(1.0), z), ADD(B(1.0), z)));
+    const __m512i q = _mm512_and_si512(u, I(0xffffffffULL));
+    const __m512i quarter = _mm512_srli_epi64(_mm512_and_si512(_mm512_add_epi64(q, I(0x20000000)), I(0xffffffffULL)), 30);
+    const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(_mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30)), 32), 32);
+    const __m512d a = MUL(_mm512_cvtepi64_pd(rest), B(6.28318530717958647692 / 4294967296.0));
+    const __m512d a2 = MUL(a, a);
+    static const double ks[] = {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1.0};
+    static const double kc[] = {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -1.0 / 2, 1.0};
+    __m512d ps = B(ks[0]), pc = B(kc[0]);
+    for (int i = 1; i < 6; i++)
+        ps = ADD(B(ks[i]), MUL(a2, ps));
+    for (int i = 1; i < 7; i++)
+        pc = ADD(B(kc[i]), MUL(a2, pc));
+    const __m512d sa = MUL(a, ps), ca = pc;
+    const __m512d qc = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(1, 0, -1, 0, 0, 0, 0, 0));
+    const __m512d qs = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(0, 1, 0, -1, 0, 0, 0, 0));
+    const __m512d c = SUB(MUL(ca, qc), MUL(sa, qs)), s = ADD(MUL(sa, qc), MUL(ca, qs));
+    d[0] = ADD(n[0], MUL(rho, c));
+    d[1] = ADD(n[1], MUL(rho, s));
+    d[2] = ADD(n[2], z);
+    const __m512d e = B(1e-8);
+    const __mmask8 zero = _mm512_cmp_pd_mask(_mm512_abs_pd(d[0]), e, _CMP_LT_OQ) &
+                          _mm512_cmp_pd_mask(_mm512_abs_pd(d[1]), e, _CMP_LT_OQ) &
+                          _mm512_cmp_pd_mask(_mm512_abs_pd(d[2]), e, _CMP_LT_OQ);
+    for (int k = 0; k < 3; k++)
+        d[k] = _mm512_mask_mov_pd(d[k], zero, n[k]);
+}
+
+/* One step of every live lane: its segment's hit, and where it scatters
+ * on (a lambertian hit, within the depth limit). Returns the lanes that
+ * go on; *miss and *emit: those whose path ends at the sky or a light
+ * (their hit's quad in id[]), the lambertian ones that do not go on ended
+ * by the depth limit. */
+static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lanes *L, __mmask8 live,
+                                                            uint32_t max_depth, __mmask8 *miss, __mmask8 *emit,
+                                                            int64_t id_out[8])
+{
+    __m512d o[3], d[3], n[3], dn[3];
+    for (int k = 0; k < 3; k++) {
+        o[k] = LD(L->o[k]);
+        d[k] = LD(L->d[k]);
+    }
+    const __m512i depth = _mm512_load_si512(L->depth);
+    const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev)); /* ahead of the test */
+    __m512i id;
+    const __m512d t = closest8(Q, o, d, &id);
+    _mm512_store_si512(id_out, id);
+    const __mmask8 hit = _mm512_mask_cmp_epi64_mask(live, id, _mm512_setzero_si512(), _MM_CMPINT_NLT);
+    const __m512i idc = _mm512_max_epi64(id, _mm512_setzero_si512());
+    const __mmask8 light = _mm512_mask_cmp_pd_mask(hit, _mm512_i64gather_pd(idc, Q->emitter, 8), B(0), _CMP_NEQ_OQ);
+    *miss = live & (__mmask8)~hit;
+    *emit = light;
+    /* the hit record: the point, the normal facing the ray */
+    for (int k = 0; k < 3; k++)
+        n[k] = _mm512_i64gather_pd(idc, Q->row[3 + k], 8);
+    const __mmask8 back = _mm512_cmp_pd_mask(ADD(ADD(MUL(d[0], n[0]), MUL(d[1], n[1])), MUL(d[2], n[2])), B(0),
+                                             _CMP_NLT_UQ); /* not (dir . n < 0) */
+    for (int k = 0; k < 3; k++) {
+        n[k] = _mm512_mask_xor_pd(n[k], back, n[k], B(-0.0));
+        o[k] = ADD(o[k], MUL(d[k], t));
+    }
+    lambert8(u, n, dn);
+    const __m512i next = _mm512_add_epi64(depth, I(1));
+    const __mmask8 bounce = hit & (__mmask8)~light;
+    const __mmask8 on = bounce & _mm512_cmp_epi64_mask(next, I(max_depth), _MM_CMPINT_LT);
+    for (int k = 0; k < 3; k++) {
+        _mm512_store_pd(L->o[k], _mm512_mask_mov_pd(LD(L->o[k]), bounce, o[k]));
+        _mm512_store_pd(L->d[k], _mm512_mask_mov_pd(d[k], bounce, dn[k]));
+        const __m512d thr = LD(L->thr[k]);
+        _mm512_store_pd(L->thr[k], _mm512_mask_mov_pd(thr, bounce, MUL(thr, _mm512_i64gather_pd(idc, Q->col[k], 8))));
+    }
+    _mm512_store_si512(L->depth, _mm512_mask_mov_epi64(depth, bounce, next));
+    return on;
+}
+
+/* The light a path that ends at lane l brings (trace2's scalar code): the
+ * sky's or background's through its throughput (miss2), or an emitter's
+ * when it faces the ray or is two-sided (surface2, w = 1 without light
+ * sampling); 0 when the depth limit or the roulette ended it. */
+static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, int l, int how, uint32_t q)
+{
+    const rt_scene *s = r->scene;
+    const rt_vec3 thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
+    const rt_vec3 dir = rt_v3(L->d[0][l], L->d[1][l], L->d[2][l]);
+    const rt_vec3 col = rt_v3(0, 0, 0);
+    if (how == 1) { /* the sky */
+        rt_vec3 bg = s->background;
+        if (s->background_kind == RT_BACKGROUND_SKY) {
+            const double t = 0.5 * (rt_v3_unit(dir).y + 1.0);
+            bg = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
+        }
+        return rt_v3_add(col, rt_v3_mul(thr, bg));
+    }
+    if (how == 2) { /* an emitter */
+        const rt_vec3 n = rt_v3(Q->row[3][q], Q->row[4][q], Q->row[5][q]);
+        if (rt_v3_dot(dir, n) < 0.0 || Q->two_sided[q] != 0.0)
+            return rt_v3_add(col, rt_v3_scale(rt_v3_mul(thr, rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q])), 1.0));
+    }
+    return col;
+}
+
+/* The roulette (path.h's path_roulette) of lane l after the bounce at
+ * depth: its number the bounce's +4 (where trace2's sampler stands after
+ * the scattering's pair). Returns 0 when it ends the path. */
+static int roulette(const rt_renderer *r, lanes *L, lane *ln, int l, uint32_t depth)
+{
+    path *p = &ln->p;
+    p->thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
+    rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_BOUNCE_DIMS * depth + RT_SAMPLER2_SCATTER + 2);
+    if (!path_roulette(r, p, depth))
+        return 0;
+    L->thr[0][l] = p->thr.x, L->thr[1][l] = p->thr.y, L->thr[2][l] = p->thr.z;
+    return 1;
+}
+
+/* The run's pixels' samplers, made at each pixel's first path. */
+typedef struct run {
+    const rt_renderer *r;
+    uint32_t x0, w, y0, s0, ns;
+    long i0, i1;
+    int64_t *acc;
+    uint64_t next, jobs; /* path next of the run's (pixel-major) */
+    pixel_ctx pc[RT_PATH_LANES_RUN_PIXELS];
+} run;
+
+/* Lane l takes the run's next path, if any: its camera ray (trace2's
+ * start). Returns 0 when none is left. */
+static int start(run *R, lanes *L, lane *ln, int l)
+{
+    if (R->next == R->jobs)
+        return 0;
+    const uint64_t j = R->next++;
+    const long k = (long)(j / R->ns), i = R->i0 + k;
+    pixel_ctx *pc = &R->pc[k];
+    if (j % R->ns == 0) {
+        const uint32_t x = R->x0 + (uint32_t)(i % R->w), y = R->y0 + (uint32_t)(i / R->w);
+        *pc = pixel_start(R->r, x, y, pixel_key(R->r, x, y), 0);
+    }
+    double time;
+    rt_path2_start(R->r, pc, R->s0 + (uint32_t)(j % R->ns), &ln->p, &time);
+    ln->px = R->acc + i * R->r->lay.ch;
+    const rt_ray *ray = &ln->p.ray;
+    L->o[0][l] = ray->orig.x, L->o[1][l] = ray->orig.y, L->o[2][l] = ray->orig.z;
+    L->d[0][l] = ray->dir.x, L->d[1][l] = ray->dir.y, L->d[2][l] = ray->dir.z;
+    L->thr[0][l] = L->thr[1][l] = L->thr[2][l] = 1.0;
+    L->depth[l] = 0;
+    L->key[l] = (int64_t)pc->smp.key;
+    L->rev[l] = (int64_t)ln->p.smp.rev_index;
+    return 1;
+}
+
+/* The quads of r's world (rt_world_quad_rows) and their materials'. */
+static void quads_of(const rt_world *w, const rt_scene *s, quads *Q)
+{
+    uint32_t mat[LANES_QUADS];
+    Q->n = rt_world_quad_rows(w, &Q->row[0][0], mat, LANES_QUADS);
+    for (uint32_t q = 0; q < Q->n; q++) {
+        const rt_material *m = &s->materials[mat[q]];
+        const rt_vec3 c = rt_texture_albedo(s, NULL, m, 0, 0, rt_v3(0, 0, 0)); /* albedo or emission */
+        Q->col[0][q] = c.x, Q->col[1][q] = c.y, Q->col[2][q] = c.z;
+        Q->emitter[q] = m->kind == RT_MAT_EMITTER;
+        Q->two_sided[q] = (m->flags & RT_MAT_TWO_SIDED) != 0;
+    }
+}
+
+uint32_t rt_path_lanes_closest(const rt_world *w, const rt_scene *s, const rt_ray ray[8], double t[8], int64_t id[8])
+{
+    quads Q;
+    quads_of(w, s, &Q);
+    __m512d o[3], d[3];
+    double __attribute__((aligned(64))) v[6][8];
+    for (int l = 0; l < 8; l++) {
+        v[0][l] = ray[l].orig.x, v[1][l] = ray[l].orig.y, v[2][l] = ray[l].orig.z;
+        v[3][l] = ray[l].dir.x, v[4][l] = ray[l].dir.y, v[5][l] = ray[l].dir.z;
+    }
+    for (int k = 0; k < 3; k++) {
+        o[k] = LD(v[k]);
+        d[k] = LD(v[3 + k]);
+    }
+    __m512i near;
+    _mm512_storeu_pd(t, closest8(&Q, o, d, &near));
+    _mm512_storeu_si512(id, near);
+    return Q.n;
+}
+
+static uint64_t lanes_run(run *R)
+{
+    const rt_renderer *r = R->r;
+    quads Q;
+    quads_of(r->world, r->scene, &Q);
+    lanes L;
+    memset(&L, 0, sizeof L);
+    lane ln[8];
+    __mmask8 live = 0;
+    for (int l = 0; l < 8; l++)
+        if (start(R, &L, &ln[l], l))
+            live |= (__mmask8)(1u << l);
+    uint64_t segs = 0;
+    const uint32_t max_depth = r->job.max_depth;
+    const int rr = r->job.roulette;
+    while (live) {
+        segs += (uint64_t)__builtin_popcount(live);
+        __mmask8 miss, emit;
+        int64_t __attribute__((aligned(64))) id[8];
+        __mmask8 on = step8(&Q, &L, live, max_depth, &miss, &emit, id);
+        if (rr) /* the roulette of the lanes that bounced (their depth is the next one's) */
+            for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
+                const int l = __builtin_ctz(m);
+                if (!roulette(r, &L, &ln[l], l, (uint32_t)L.depth[l] - 1))
+                    on &= (__mmask8)~(1u << l);
+            }
+        for (__mmask8 m = live & (__mmask8)~on; m; m &= (__mmask8)(m - 1)) {
+            const int l = __builtin_ctz(m);
+            const int how = (miss >> l) & 1 ? 1 : (emit >> l) & 1 ? 2 : 0;
+            const rt_vec3 c = end_light(r, &Q, &L, l, how, (uint32_t)id[l]);
+            ln[l].px[0] += rt_render_fix(c.x);
+            ln[l].px[1] += rt_render_fix(c.y);
+            ln[l].px[2] += rt_render_fix(c.z);
+            if (!start(R, &L, &ln[l], l))
+                on &= (__mmask8)~(1u << l);
+            else
+                on |= (__mmask8)(1u << l);
+        }
+        live = on;
+    }
+    return segs;
+}
+
+#ifdef __clang__
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+
+uint64_t rt_path_lanes_run(const rt_renderer *r, uint32_t x0, uint32_t w, uint32_t y0, uint32_t s0, uint32_t s1,
+                           long i0, long i1, int64_t *acc)
+{
+    uint64_t segs = 0;
+    for (long a = i0; a < i1 && s0 < s1; a += RT_PATH_LANES_RUN_PIXELS) {
+        run R;
+        R.r = r, R.x0 = x0, R.w = w, R.y0 = y0, R.s0 = s0, R.ns = s1 - s0, R.acc = acc;
+        R.i0 = a;
+        R.i1 = i1 - a < RT_PATH_LANES_RUN_PIXELS ? i1 : a + RT_PATH_LANES_RUN_PIXELS;
+        R.next = 0;
+        R.jobs = (uint64_t)(R.i1 - R.i0) * R.ns;
+        segs += lanes_run(&R);
+    }
+    return segs;
+}
+
+#else
+
+uint32_t rt_path_lanes_closest(const rt_world *w, const rt_scene *s, const rt_ray ray[8], double t[8], int64_t id[8])
+{
+    (void)w, (void)s, (void)ray, (void)t, (void)id;
+    return 0;
+}
+
+uint64_t rt_path_lanes_run(const rt_renderer *r, uint32_t x0, uint32_t w, uint32_t y0, uint32_t s0, uint32_t s1,
+                           long i0, long i1, int64_t *acc)
+{
+    (void)r, (void)x0, (void)w, (void)y0, (void)s0, (void)s1, (void)i0, (void)i1, (void)acc;
+    return 0;
+}
+
+#endif
