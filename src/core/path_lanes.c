@@ -6,7 +6,7 @@
  * once (of its pixel or of the run's next pixels). A path is one chain of
  * dependent work (the division, the hit point, the bounce); eight
  * independent ones side by side turn its latency into throughput
- * (tools/lockstep_probe.sh measured the loop first).
+ * (a probe measured the loop first: tools/lockstep_probe.sh at c3bff24).
  *
  * The same bits as path2.c's trace2, lane by lane: each lane does the
  * scalar code's IEEE operations in its order (no fused multiply-add:
