@@ -156,11 +156,11 @@ int main(void)
             /* ... and the renderer does consult the lists: with every list
              * emptied (each camera ray then misses), both path loops render
              * something else. */
-            const uint32_t tiles = p->tiles_x * p->tiles_y;
+            const uint32_t tiles = p->tiles.tiles_x * p->tiles.tiles_y;
             int32_t *saved = malloc(tiles * sizeof *saved);
             for (uint32_t t = 0; t < tiles; t++) {
-                saved[t] = p->tile[t].n;
-                p->tile[t].n = p->tile[t].n < 0 ? -1 : 0;
+                saved[t] = p->tiles.tile[t].n;
+                p->tiles.tile[t].n = p->tiles.tile[t].n < 0 ? -1 : 0;
             }
             memset(a, 0, len * sizeof *a);
             rt_render_rows(&with, 0, H, 0, 9, a, 1);
@@ -176,13 +176,13 @@ int main(void)
                 renders++;
             }
             uint32_t f0;
-            if (saved[rt_primary_tile(p, W / 2, H / 2, &f0) < 0 ? 0 : (H / 2 >> p->shift) * p->tiles_x +
-                                                                        (W / 2 >> p->shift)] > 0) {
+            if (saved[rt_primary_tile(p, W / 2, H / 2, &f0) < 0 ? 0 : (H / 2 >> p->tiles.shift) * p->tiles.tiles_x +
+                                                                        (W / 2 >> p->tiles.shift)] > 0) {
                 emptied_sample_differ += nd != nw || memcmp(&cd, &cw, sizeof cd) != 0;
                 middles++;
             }
             for (uint32_t t = 0; t < tiles; t++)
-                p->tile[t].n = saved[t];
+                p->tiles.tile[t].n = saved[t];
             free(saved);
             free(a);
             free(b);
@@ -228,10 +228,10 @@ int main(void)
     CHECK_EQ_INT(rt_camera_init(&cam, &s.camera, (double)BW / BH), RT_OK);
     CHECK_EQ_INT(rt_primary_build(&p, &s, &cam, BW, BH), RT_OK);
     rt_primary_stats(p, &tiles, &listed, &cand);
-    printf("final scene, %ux%u: tiles of %u pixels, %u tiles, %u with a list, %zu bytes\n", BW, BH, 1u << p->shift,
+    printf("final scene, %ux%u: tiles of %u pixels, %u tiles, %u with a list, %zu bytes\n", BW, BH, 1u << p->tiles.shift,
            tiles, listed, rt_primary_bytes(p));
-    CHECK(tiles <= RT_PRIMARY_MAX_TILES);
-    CHECK_EQ_INT(1u << p->shift, 32); /* 157 x 125 tiles; of 16 pixels there would be 313 x 250 */
+    CHECK(tiles <= RT_TILES_MAX);
+    CHECK_EQ_INT(1u << p->tiles.shift, 32); /* 157 x 125 tiles; of 16 pixels there would be 313 x 250 */
     CHECK(rt_primary_bytes(p) < 2u << 20);
     rt_accel *brute;
     CHECK_EQ_INT(rt_accel_new(&brute, &s, RT_ACCEL_BRUTE), RT_OK);
