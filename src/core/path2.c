@@ -106,11 +106,7 @@ static rt_vec3 clamp3(rt_vec3 v) { return rt_v3(clamp01(v.x), clamp01(v.y), clam
 /* The background's light for a path that leaves the scene. */
 static void miss2(const p2 *c, path *p)
 {
-    rt_vec3 bg = c->s->background;
-    if (c->s->background_kind == RT_BACKGROUND_SKY) {
-        const double t = 0.5 * (rt_v3_unit(p->ray.dir).y + 1.0);
-        bg = rt_v3_add(rt_v3_scale(c->s->sky_bottom, 1.0 - t), rt_v3_scale(c->s->sky_top, t));
-    }
+    const rt_vec3 bg = rt_path2_background(c->s, p->ray.dir);
     p->col = rt_v3_add(p->col, rt_v3_mul(p->thr, bg));
     if (c->pc.aovs && !p->aov.done)
         p->aov = (aov_rec){1, clamp3(bg), rt_v3(0, 0, 0)};

@@ -1,6 +1,7 @@
-/* path2_start.h - a book-2 path's start: the camera ray of a pixel's
- * sample, its sampler and its time; path2.c's loop and path_lanes.c's
- * start their paths alike. Core-internal. */
+/* path2_start.h - a book-2 path's start (the camera ray of a pixel's
+ * sample, its sampler and its time) and the background's light where it
+ * leaves the scene: path2.c's loop and path_lanes.c's start and end their
+ * paths alike. Core-internal. */
 #ifndef RT_PATH2_START_H
 #define RT_PATH2_START_H
 
@@ -30,6 +31,16 @@ static inline void rt_path2_start(const rt_renderer *r, const pixel_ctx *pc, uin
     p->ray = rt_camera_ray_lens(&r->camera, u, v, d.x, d.y);
     rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_TIME);
     *time = r->time0 + rt_sampler_get1d(&p->smp) * (r->time1 - r->time0); /* [0, 1): u itself */
+}
+
+/* The background's light along direction dir: s's colour, or book 1's sky
+ * gradient by the direction's height. */
+static inline rt_vec3 rt_path2_background(const rt_scene *s, rt_vec3 dir)
+{
+    if (s->background_kind != RT_BACKGROUND_SKY)
+        return s->background;
+    const double t = 0.5 * (rt_v3_unit(dir).y + 1.0);
+    return rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
 }
 
 #endif

@@ -154,8 +154,8 @@ static inline __attribute__((always_inline)) __m512d closest8(const quads *Q, co
  * and xors keep their low 32 bits in a lane's low half: masked at the end. */
 static inline __attribute__((always_inline)) __m512i mix8(__m512i z)
 {
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), I(0xbf58476d1ce4e5b9ULL));
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), I(0x94d049bb133111ebULL));
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), I(RT_RNG_MIX_A));
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), I(RT_RNG_MIX_B));
     return _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
 }
 
@@ -164,14 +164,14 @@ static inline __attribute__((always_inline)) __m512i sobol8(__m512i depth, __m51
     const __m512i lo32 = I(0xffffffffULL);
     const __m512i pair = _mm512_add_epi64(_mm512_slli_epi64(depth, 2), I(RT_SAMPLER2_DIM_BOUNCE / 2 + 1));
     const __m512i h =
-        mix8(_mm512_xor_si512(key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(0x9fb21c651e98df25ULL))));
+        mix8(_mm512_xor_si512(key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(RT_SAMPLER_PAIR_STEP))));
     const __m512i seed = _mm512_and_si512(h, lo32);
     const __m512i shift =
-        _mm512_or_si512(_mm512_andnot_si512(lo32, h), _mm512_srli_epi64(_mm512_mullo_epi64(h, I(0xd1b54a32d192ed03ULL)), 32));
+        _mm512_or_si512(_mm512_andnot_si512(lo32, h), _mm512_srli_epi64(_mm512_mullo_epi64(h, I(RT_SAMPLER_SHIFT_MUL)), 32));
     __m512i x = _mm512_add_epi64(rev, seed);
-    x = _mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0x3c6ef372u)));
+    x = _mm512_xor_si512(x, _mm512_mullo_epi64(x, I(RT_SAMPLER_NESTED_A)));
     x = _mm512_mullo_epi64(x, _mm512_or_si512(seed, I(1)));
-    x = _mm512_and_si512(_mm512_xor_si512(x, _mm512_mullo_epi64(x, I(0xa54ff53au))), lo32);
+    x = _mm512_and_si512(_mm512_xor_si512(x, _mm512_mullo_epi64(x, I(RT_SAMPLER_NESTED_B))), lo32);
     __m512i v = x;
     v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 1), I(0xaaaaaaaau)));
     v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 2), I(0xccccccccu)));
@@ -193,18 +193,18 @@ static inline __attribute__((always_inline)) void lambert8(__m512i u, const __m5
     const __m512i q = _mm512_and_si512(u, I(0xffffffffULL));
     const __m512i quarter = _mm512_srli_epi64(_mm512_and_si512(_mm512_add_epi64(q, I(0x20000000)), I(0xffffffffULL)), 30);
     const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(_mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30)), 32), 32);
-    const __m512d a = MUL(_mm512_cvtepi64_pd(rest), B(6.28318530717958647692 / 4294967296.0));
+    const __m512d a = MUL(_mm512_cvtepi64_pd(rest), B(RT_SAMPLE_TURN_RADIANS));
     const __m512d a2 = MUL(a, a);
-    static const double ks[] = {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1.0};
-    static const double kc[] = {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -1.0 / 2, 1.0};
+    static const double ks[6] = RT_SAMPLE_SIN_POLY, kc[7] = RT_SAMPLE_COS_POLY;
+    static const double qcos[8] = RT_SAMPLE_QUARTER_COS, qsin[8] = RT_SAMPLE_QUARTER_SIN;
     __m512d ps = B(ks[0]), pc = B(kc[0]);
     for (int i = 1; i < 6; i++)
         ps = ADD(B(ks[i]), MUL(a2, ps));
     for (int i = 1; i < 7; i++)
         pc = ADD(B(kc[i]), MUL(a2, pc));
     const __m512d sa = MUL(a, ps), ca = pc;
-    const __m512d qc = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(1, 0, -1, 0, 0, 0, 0, 0));
-    const __m512d qs = _mm512_permutexvar_pd(quarter, _mm512_setr_pd(0, 1, 0, -1, 0, 0, 0, 0));
+    const __m512d qc = _mm512_permutexvar_pd(quarter, _mm512_loadu_pd(qcos));
+    const __m512d qs = _mm512_permutexvar_pd(quarter, _mm512_loadu_pd(qsin));
     const __m512d c = SUB(MUL(ca, qc), MUL(sa, qs)), s = ADD(MUL(sa, qc), MUL(ca, qs));
     d[0] = ADD(n[0], MUL(rho, c));
     d[1] = ADD(n[1], MUL(rho, s));
@@ -270,18 +270,11 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
  * sampling); 0 when the depth limit or the roulette ended it. */
 static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, int l, int how, uint32_t q)
 {
-    const rt_scene *s = r->scene;
     const rt_vec3 thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
     const rt_vec3 dir = rt_v3(L->d[0][l], L->d[1][l], L->d[2][l]);
     const rt_vec3 col = rt_v3(0, 0, 0);
-    if (how == 1) { /* the sky */
-        rt_vec3 bg = s->background;
-        if (s->background_kind == RT_BACKGROUND_SKY) {
-            const double t = 0.5 * (rt_v3_unit(dir).y + 1.0);
-            bg = rt_v3_add(rt_v3_scale(s->sky_bottom, 1.0 - t), rt_v3_scale(s->sky_top, t));
-        }
-        return rt_v3_add(col, rt_v3_mul(thr, bg));
-    }
+    if (how == 1) /* the background */
+        return rt_v3_add(col, rt_v3_mul(thr, rt_path2_background(r->scene, dir)));
     if (how == 2) { /* an emitter */
         const rt_vec3 n = rt_v3(Q->row[3][q], Q->row[4][q], Q->row[5][q]);
         if (rt_v3_dot(dir, n) < 0.0 || Q->two_sided[q] != 0.0)
@@ -308,7 +301,7 @@ static int roulette(const rt_renderer *r, lanes *L, lane *ln, int l, uint32_t de
 typedef struct run {
     const rt_renderer *r;
     uint32_t x0, w, y0, s0, ns;
-    long i0, i1;
+    long i0; /* the run's first pixel */
     int64_t *acc;
     uint64_t next, jobs; /* path next of the run's (pixel-major) */
     pixel_ctx pc[RT_PATH_LANES_RUN_PIXELS];
@@ -431,9 +424,8 @@ uint64_t rt_path_lanes_run(const rt_renderer *r, uint32_t x0, uint32_t w, uint32
         run R;
         R.r = r, R.x0 = x0, R.w = w, R.y0 = y0, R.s0 = s0, R.ns = s1 - s0, R.acc = acc;
         R.i0 = a;
-        R.i1 = i1 - a < RT_PATH_LANES_RUN_PIXELS ? i1 : a + RT_PATH_LANES_RUN_PIXELS;
         R.next = 0;
-        R.jobs = (uint64_t)(R.i1 - R.i0) * R.ns;
+        R.jobs = (uint64_t)((i1 - a < RT_PATH_LANES_RUN_PIXELS ? i1 - a : RT_PATH_LANES_RUN_PIXELS)) * R.ns;
         segs += lanes_run(&R);
     }
     return segs;

@@ -22,10 +22,12 @@ enum { RT_STREAM_SCENE = 1, RT_STREAM_TEST = 2, RT_STREAM_PERLIN = 3 };
 
 /* Stafford's "Mix13" finalizer as used by splitmix64: a bijection on 64 bits
  * with full avalanche. */
+#define RT_RNG_MIX_A UINT64_C(0xbf58476d1ce4e5b9) /* rt_rng_mix's multipliers (path_lanes.c's too) */
+#define RT_RNG_MIX_B UINT64_C(0x94d049bb133111eb)
 static inline uint64_t rt_rng_mix(uint64_t z)
 {
-    z = (z ^ (z >> 30)) * UINT64_C(0xbf58476d1ce4e5b9);
-    z = (z ^ (z >> 27)) * UINT64_C(0x94d049bb133111eb);
+    z = (z ^ (z >> 30)) * RT_RNG_MIX_A;
+    z = (z ^ (z >> 27)) * RT_RNG_MIX_B;
     return z ^ (z >> 31);
 }
 

@@ -35,19 +35,29 @@ static inline rt_vec3 rt_sample_in_unit_sphere(rt_rng *r)
 /* cos and sin of the angle 2*pi * q / 2^32. Integer arithmetic picks the
  * nearest quarter turn, so the polynomials only see |a| <= pi/4, where their
  * truncation error is below 1e-11; the quarter turn is then applied exactly
- * (products with 0 and +-1). No libm: the same bits on every machine. */
+ * (products with 0 and +-1). No libm: the same bits on every machine. The
+ * constants are named for path_lanes.c, which does the same in vector
+ * code: the radians of a 2^-32 turn, the quarter turns' cos and sin, and
+ * the polynomials' coefficients in Horner order, innermost first (sin a =
+ * a (1 - a^2/6 + ...), cos a = 1 - a^2/2 + ...). */
+#define RT_SAMPLE_TURN_RADIANS (6.28318530717958647692 / 4294967296.0)
+#define RT_SAMPLE_QUARTER_COS {1, 0, -1, 0}
+#define RT_SAMPLE_QUARTER_SIN {0, 1, 0, -1}
+#define RT_SAMPLE_SIN_POLY {-1.0 / 39916800, 1.0 / 362880, -1.0 / 5040, 1.0 / 120, -1.0 / 6, 1.0}
+#define RT_SAMPLE_COS_POLY {1.0 / 479001600, -1.0 / 3628800, 1.0 / 40320, -1.0 / 720, 1.0 / 24, -1.0 / 2, 1.0}
 static inline void rt_sample_cos_sin_turn(uint32_t q, double *c, double *s)
 {
-    static const double quarter_cos[4] = {1, 0, -1, 0}, quarter_sin[4] = {0, 1, 0, -1};
+    static const double quarter_cos[4] = RT_SAMPLE_QUARTER_COS, quarter_sin[4] = RT_SAMPLE_QUARTER_SIN;
+    static const double ks[6] = RT_SAMPLE_SIN_POLY, kc[7] = RT_SAMPLE_COS_POLY;
     uint32_t quarter = (q + 0x20000000u) >> 30;  /* round(q / 2^30) mod 4 */
     int32_t rest = (int32_t)(q - (quarter << 30)); /* in [-2^29, 2^29) */
-    double a = (double)rest * (6.28318530717958647692 / 4294967296.0);
-    double a2 = a * a;
-    double sa = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880 +
-                                                                                        a2 * (-1.0 / 39916800))))));
-    double ca = 1.0 + a2 * (-1.0 / 2 + a2 * (1.0 / 24 + a2 * (-1.0 / 720 + a2 * (1.0 / 40320 +
-                                                                                 a2 * (-1.0 / 3628800 +
-                                                                                       a2 * (1.0 / 479001600))))));
+    double a = (double)rest * RT_SAMPLE_TURN_RADIANS;
+    double a2 = a * a, ps = ks[0], pc = kc[0];
+    for (int i = 1; i < 6; i++)
+        ps = ks[i] + a2 * ps;
+    for (int i = 1; i < 7; i++)
+        pc = kc[i] + a2 * pc;
+    double sa = a * ps, ca = pc;
     *c = ca * quarter_cos[quarter] - sa * quarter_sin[quarter];
     *s = sa * quarter_cos[quarter] + ca * quarter_sin[quarter];
 }

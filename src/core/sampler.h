@@ -148,12 +148,14 @@ static inline uint32_t rt_sampler_reverse(uint32_t x)
  * sampling version 3 had three: the same errors on the final, materials
  * and defocus scenes (docs/SAMPLING.md), and the within-pixel independence
  * test (test_sampler.c) passes. */
+#define RT_SAMPLER_NESTED_A 0x3c6ef372u /* its constants (path_lanes.c's too) */
+#define RT_SAMPLER_NESTED_B 0xa54ff53au
 static inline uint32_t rt_sampler_nested(uint32_t x, uint32_t seed)
 {
     x += seed;
-    x ^= x * 0x3c6ef372u;
+    x ^= x * RT_SAMPLER_NESTED_A;
     x *= seed | 1u;
-    x ^= x * 0xa54ff53au;
+    x ^= x * RT_SAMPLER_NESTED_B;
     return x;
 }
 
@@ -176,9 +178,11 @@ static inline uint32_t rt_sampler_sobol1(uint32_t v)
 }
 
 /* Hash of (pixel key, pair): the pair's index shuffle and shifts. */
+#define RT_SAMPLER_PAIR_STEP UINT64_C(0x9fb21c651e98df25) /* a pair's step of the key (path_lanes.c's too) */
+#define RT_SAMPLER_SHIFT_MUL UINT64_C(0xd1b54a32d192ed03) /* the second shift's multiplier */
 static inline uint64_t rt_sampler_pair_hash(uint64_t key, uint32_t pair)
 {
-    return rt_rng_mix(key ^ (((uint64_t)pair + 1) * UINT64_C(0x9fb21c651e98df25)));
+    return rt_rng_mix(key ^ (((uint64_t)pair + 1) * RT_SAMPLER_PAIR_STEP));
 }
 
 /* The shuffle seed and the shifts of a pair, from its hash. */
@@ -186,7 +190,7 @@ static inline void rt_sampler_pair_keys(uint64_t key, uint32_t pair, uint32_t *s
 {
     const uint64_t h = rt_sampler_pair_hash(key, pair);
     *seed = (uint32_t)h;
-    *shift = (h & UINT64_C(0xffffffff00000000)) | (h * UINT64_C(0xd1b54a32d192ed03)) >> 32;
+    *shift = (h & UINT64_C(0xffffffff00000000)) | (h * RT_SAMPLER_SHIFT_MUL) >> 32;
 }
 
 /* A pair's point, .x << 32 | .y (32-bit fractions), for the sample whose
