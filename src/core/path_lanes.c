@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "bvh.h"
+#include "nee.h"
 #include "path.h"
 #include "path2_start.h"
 #include "texture.h"
@@ -34,9 +35,14 @@
  * every ray: past this the tree's walk costs less). */
 #define LANES_QUADS 32
 
-/* sobol8's pair: 4 a bounce, the scattering's the bounce's second */
-_Static_assert(RT_SAMPLER2_BOUNCE_DIMS == 8 && RT_SAMPLER2_SCATTER == 2 && RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
+#define PI 3.14159265358979323846
+
+/* sobol8's pair: the scattering's, a whole pair of a bounce of an even
+ * number of dimensions, without light sampling or with it */
+_Static_assert(RT_SAMPLER2_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_LIT_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_SCATTER % 2 == 0 &&
+                   RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
                "path_lanes.c: the book-2 layout of a bounce's dimensions changed");
+
 
 int rt_path_lanes_for(const rt_renderer *r)
 {
@@ -45,7 +51,7 @@ int rt_path_lanes_for(const rt_renderer *r)
     if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512dq"))
         return 0;
     const rt_scene *s = r->scene;
-    if (!r->world || r->lights || r->job.diffuse != RT_DIFFUSE_LAMBERTIAN || r->job.sampler != RT_SAMPLER_SOBOL ||
+    if (!r->world || r->light_targets || r->job.diffuse != RT_DIFFUSE_LAMBERTIAN || r->job.sampler != RT_SAMPLER_SOBOL ||
         r->lay.ch != 3 || s->media.media.n)
         return 0;
     double rows[13 * LANES_QUADS];
@@ -74,6 +80,12 @@ uint32_t rt_path_lanes_run_pixels(uint32_t samples)
 
 #if RT_BVH_HAVE_AVX
 #include <immintrin.h>
+/* The dimensions of a bounce of r's paths (path2.c's context: no media and
+ * no glass-sphere targets in the lanes' scenes). */
+static uint32_t lanes_stride(const rt_renderer *r)
+{
+    return r->lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS;
+}
 
 #ifdef __clang__
 #pragma clang attribute push(__attribute__((target("avx512f,avx512dq"))), apply_to = function)
@@ -93,20 +105,26 @@ typedef struct quads {
     _Alignas(64) double row[13][LANES_QUADS];
     double col[3][LANES_QUADS]; /* albedo, or emission */
     double emitter[LANES_QUADS], two_sided[LANES_QUADS];
+    uint32_t mat[LANES_QUADS];
     uint32_t n;
 } quads;
 
 /* The eight lanes: each one's ray, throughput, depth, and its sample's
- * sampler key and bit-reversed index (the Sobol numbers' inputs). */
+ * sampler key and bit-reversed index (the Sobol numbers' inputs); with
+ * light sampling also the density of the ray's direction (pdf: 0 for a
+ * camera ray) and the last step's hit: its t, point, normal facing the
+ * ray and the throughput that reached it (thr0). */
 typedef struct lanes {
     _Alignas(64) double o[3][8];
     double d[3][8], thr[3][8];
     int64_t depth[8], key[8], rev[8];
+    double pdf[8], t[8], hp[3][8], hn[3][8], thr0[3][8];
 } lanes;
 
-/* Each lane's path as the scalar code sees it. */
+/* Each lane's path as the scalar code sees it (its light so far in p.col). */
 typedef struct lane {
     path p;
+    double time;
     int64_t *px; /* its pixel's sums */
 } lane;
 
@@ -147,8 +165,8 @@ static inline __attribute__((always_inline)) __m512d closest8(const quads *Q, co
     return best;
 }
 
-/* sampler.h's Sobol 2D number of each lane's bounce (pair 4 + 4 depth:
- * the book-2 layout's scattering pair, RT_SAMPLER2_DIM_BOUNCE + 8 depth +
+/* sampler.h's Sobol 2D number of each lane's bounce (the book-2 layout's
+ * scattering pair, RT_SAMPLER2_DIM_BOUNCE + stride depth +
  * RT_SAMPLER2_SCATTER over 2): rt_sampler_pair_keys, rt_sampler_nested and
  * rt_sampler_point_of on 64-bit lanes. The 32-bit steps' sums, products
  * and xors keep their low 32 bits in a lane's low half: masked at the end. */
@@ -159,10 +177,11 @@ static inline __attribute__((always_inline)) __m512i mix8(__m512i z)
     return _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
 }
 
-static inline __attribute__((always_inline)) __m512i sobol8(__m512i depth, __m512i key, __m512i rev)
+static inline __attribute__((always_inline)) __m512i sobol8(__m512i depth, __m512i key, __m512i rev, uint32_t stride)
 {
     const __m512i lo32 = I(0xffffffffULL);
-    const __m512i pair = _mm512_add_epi64(_mm512_slli_epi64(depth, 2), I(RT_SAMPLER2_DIM_BOUNCE / 2 + 1));
+    const __m512i pair = _mm512_add_epi64(_mm512_mullo_epi64(depth, I(stride / 2)),
+                                          I((RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_SCATTER) / 2));
     const __m512i h =
         mix8(_mm512_xor_si512(key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(RT_SAMPLER_PAIR_STEP))));
     const __m512i seed = _mm512_and_si512(h, lo32);
@@ -223,8 +242,8 @@ static inline __attribute__((always_inline)) void lambert8(__m512i u, const __m5
  * (their hit's quad in id[]), the lambertian ones that do not go on ended
  * by the depth limit. */
 static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lanes *L, __mmask8 live,
-                                                            uint32_t max_depth, __mmask8 *miss, __mmask8 *emit,
-                                                            int64_t id_out[8])
+                                                            uint32_t max_depth, uint32_t stride, int lights,
+                                                            __mmask8 *miss, __mmask8 *emit, int64_t id_out[8])
 {
     __m512d o[3], d[3], n[3], dn[3];
     for (int k = 0; k < 3; k++) {
@@ -232,9 +251,10 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
         d[k] = LD(L->d[k]);
     }
     const __m512i depth = _mm512_load_si512(L->depth);
-    const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev)); /* ahead of the test */
+    const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev), stride); /* ahead of the test */
     __m512i id;
     const __m512d t = closest8(Q, o, d, &id);
+    _mm512_store_pd(L->t, t);
     _mm512_store_si512(id_out, id);
     const __mmask8 hit = _mm512_mask_cmp_epi64_mask(live, id, _mm512_setzero_si512(), _MM_CMPINT_NLT);
     const __m512i idc = _mm512_max_epi64(id, _mm512_setzero_si512());
@@ -253,6 +273,16 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
     lambert8(u, n, dn);
     const __m512i next = _mm512_add_epi64(depth, I(1));
     const __mmask8 bounce = hit & (__mmask8)~light;
+    if (lights) { /* the vertex for the lights' estimate (scalar), and rt_nee_scatter's cosine density */
+        for (int k = 0; k < 3; k++) {
+            _mm512_store_pd(L->hp[k], o[k]);
+            _mm512_store_pd(L->hn[k], n[k]);
+            _mm512_store_pd(L->thr0[k], LD(L->thr[k]));
+        }
+        const __m512d c = ADD(ADD(MUL(dn[0], n[0]), MUL(dn[1], n[1])), MUL(dn[2], n[2]));
+        const __m512d len = _mm512_sqrt_pd(ADD(ADD(MUL(dn[0], dn[0]), MUL(dn[1], dn[1])), MUL(dn[2], dn[2])));
+        _mm512_store_pd(L->pdf, _mm512_mask_div_pd(LD(L->pdf), bounce, c, MUL(len, B(PI))));
+    }
     const __mmask8 on = bounce & _mm512_cmp_epi64_mask(next, I(max_depth), _MM_CMPINT_LT);
     for (int k = 0; k < 3; k++) {
         _mm512_store_pd(L->o[k], _mm512_mask_mov_pd(LD(L->o[k]), bounce, o[k]));
@@ -264,33 +294,57 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
     return on;
 }
 
-/* The light a path that ends at lane l brings (trace2's scalar code): the
- * sky's or background's through its throughput (miss2), or an emitter's
- * when it faces the ray or is two-sided (surface2, w = 1 without light
- * sampling); 0 when the depth limit or the roulette ended it. */
-static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, int l, int how, uint32_t q)
+/* The light of the path that ends at lane l (trace2's scalar code), added
+ * to what it has (col): the sky's or background's through its throughput
+ * (miss2), or an emitter's when it faces the ray or is two-sided
+ * (surface2: weighed against the lights' estimate by rt_nee_weight when
+ * the job samples them, else w = 1); nothing when the depth limit or the
+ * roulette ended it. */
+static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, int l, int how, uint32_t q, rt_vec3 col,
+                         double time)
 {
     const rt_vec3 thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
     const rt_vec3 dir = rt_v3(L->d[0][l], L->d[1][l], L->d[2][l]);
-    const rt_vec3 col = rt_v3(0, 0, 0);
     if (how == 1) /* the background */
         return rt_v3_add(col, rt_v3_mul(thr, rt_path2_background(r->scene, dir)));
     if (how == 2) { /* an emitter */
         const rt_vec3 n = rt_v3(Q->row[3][q], Q->row[4][q], Q->row[5][q]);
-        if (rt_v3_dot(dir, n) < 0.0 || Q->two_sided[q] != 0.0)
-            return rt_v3_add(col, rt_v3_scale(rt_v3_mul(thr, rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q])), 1.0));
+        if (rt_v3_dot(dir, n) < 0.0 || Q->two_sided[q] != 0.0) {
+            double w = 1.0;
+            if (r->lights) {
+                const rt_ray ray = {rt_v3(L->o[0][l], L->o[1][l], L->o[2][l]), dir};
+                const rt_whit h = {L->t[l], RT_SHAPE_QUAD, q, Q->mat[q]};
+                w = rt_nee_weight(r, &ray, L->pdf[l], &h, time);
+            }
+            return rt_v3_add(col, rt_v3_scale(rt_v3_mul(thr, rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q])), w));
+        }
     }
     return col;
+}
+
+/* The lights' estimate at lane l's lambertian vertex (path2.c's direct2,
+ * scalar: rt_nee_direct by the bounce's light dimensions), added to the
+ * path's light, its shadow rays to *segs. */
+static void direct(const rt_renderer *r, const quads *Q, const lanes *L, lane *ln, int l, uint32_t q, uint32_t depth,
+                   uint32_t stride, uint64_t *segs)
+{
+    path *p = &ln->p;
+    rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + stride * depth + RT_SAMPLER2_LIGHT);
+    const rt_nee_bsdf b = {.n = rt_v3(L->hn[0][l], L->hn[1][l], L->hn[2][l])};
+    const rt_vec3 at = rt_v3(L->hp[0][l], L->hp[1][l], L->hp[2][l]);
+    const rt_vec3 weight = rt_v3_mul(rt_v3(L->thr0[0][l], L->thr0[1][l], L->thr0[2][l]),
+                                     rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q]));
+    p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, ln->time, &p->smp, segs));
 }
 
 /* The roulette (path.h's path_roulette) of lane l after the bounce at
  * depth: its number the bounce's +4 (where trace2's sampler stands after
  * the scattering's pair). Returns 0 when it ends the path. */
-static int roulette(const rt_renderer *r, lanes *L, lane *ln, int l, uint32_t depth)
+static int roulette(const rt_renderer *r, lanes *L, lane *ln, int l, uint32_t depth, uint32_t stride)
 {
     path *p = &ln->p;
     p->thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
-    rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_BOUNCE_DIMS * depth + RT_SAMPLER2_SCATTER + 2);
+    rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + stride * depth + RT_SAMPLER2_SCATTER + 2);
     if (!path_roulette(r, p, depth))
         return 0;
     L->thr[0][l] = p->thr.x, L->thr[1][l] = p->thr.y, L->thr[2][l] = p->thr.z;
@@ -320,14 +374,14 @@ static int start(run *R, lanes *L, lane *ln, int l)
         const uint32_t x = R->x0 + (uint32_t)(i % R->w), y = R->y0 + (uint32_t)(i / R->w);
         *pc = pixel_start(R->r, x, y, pixel_key(R->r, x, y), 0);
     }
-    double time;
-    rt_path2_start(R->r, pc, R->s0 + (uint32_t)(j % R->ns), &ln->p, &time);
+    rt_path2_start(R->r, pc, R->s0 + (uint32_t)(j % R->ns), &ln->p, &ln->time);
     ln->px = R->acc + i * R->r->lay.ch;
     const rt_ray *ray = &ln->p.ray;
     L->o[0][l] = ray->orig.x, L->o[1][l] = ray->orig.y, L->o[2][l] = ray->orig.z;
     L->d[0][l] = ray->dir.x, L->d[1][l] = ray->dir.y, L->d[2][l] = ray->dir.z;
     L->thr[0][l] = L->thr[1][l] = L->thr[2][l] = 1.0;
     L->depth[l] = 0;
+    L->pdf[l] = 0.0; /* a camera ray's: an emitter it finds counts whole (rt_nee_weight) */
     L->key[l] = (int64_t)pc->smp.key;
     L->rev[l] = (int64_t)ln->p.smp.rev_index;
     return 1;
@@ -344,6 +398,7 @@ static void quads_of(const rt_world *w, const rt_scene *s, quads *Q)
         Q->col[0][q] = c.x, Q->col[1][q] = c.y, Q->col[2][q] = c.z;
         Q->emitter[q] = m->kind == RT_MAT_EMITTER;
         Q->two_sided[q] = (m->flags & RT_MAT_TWO_SIDED) != 0;
+        Q->mat[q] = mat[q];
     }
 }
 
@@ -380,23 +435,28 @@ static uint64_t lanes_run(run *R)
         if (start(R, &L, &ln[l], l))
             live |= (__mmask8)(1u << l);
     uint64_t segs = 0;
-    const uint32_t max_depth = r->job.max_depth;
-    const int rr = r->job.roulette;
+    const uint32_t max_depth = r->job.max_depth, stride = lanes_stride(r);
+    const int rr = r->job.roulette, lights = r->lights != NULL;
     while (live) {
         segs += (uint64_t)__builtin_popcount(live);
         __mmask8 miss, emit;
         int64_t __attribute__((aligned(64))) id[8];
-        __mmask8 on = step8(&Q, &L, live, max_depth, &miss, &emit, id);
+        __mmask8 on = step8(&Q, &L, live, max_depth, stride, lights, &miss, &emit, id);
+        if (lights) /* the lights' estimate at the vertices within the depth limit, before their roulette */
+            for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
+                const int l = __builtin_ctz(m);
+                direct(r, &Q, &L, &ln[l], l, (uint32_t)id[l], (uint32_t)L.depth[l] - 1, stride, &segs);
+            }
         if (rr) /* the roulette of the lanes that bounced (their depth is the next one's) */
             for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
                 const int l = __builtin_ctz(m);
-                if (!roulette(r, &L, &ln[l], l, (uint32_t)L.depth[l] - 1))
+                if (!roulette(r, &L, &ln[l], l, (uint32_t)L.depth[l] - 1, stride))
                     on &= (__mmask8)~(1u << l);
             }
         for (__mmask8 m = live & (__mmask8)~on; m; m &= (__mmask8)(m - 1)) {
             const int l = __builtin_ctz(m);
             const int how = (miss >> l) & 1 ? 1 : (emit >> l) & 1 ? 2 : 0;
-            const rt_vec3 c = end_light(r, &Q, &L, l, how, (uint32_t)id[l]);
+            const rt_vec3 c = end_light(r, &Q, &L, l, how, (uint32_t)id[l], ln[l].p.col, ln[l].time);
             ln[l].px[0] += rt_render_fix(c.x);
             ln[l].px[1] += rt_render_fix(c.y);
             ln[l].px[2] += rt_render_fix(c.z);

@@ -57,7 +57,7 @@ same_as() { # label ref.png cmd...
 # Lit scenes sample their lights (a quad; a quad and a sphere in
 # simple-light; through media in cornell-smoke and book2-final), or not.
 for s in book2-final cornell-smoke bouncing-spheres simple-light "cornell-smoke --no-light-sampling" \
-    "cornell-box --no-light-sampling" quads; do
+    cornell-box "cornell-box --no-light-sampling" quads; do
     A=(--scene $s "${T[@]}" --width 48 --height 36 -s 8 --max-depth 12)
     for sm in sobol random; do
         "$BIN" "${A[@]}" --sampler $sm -j 1 -q -o "$WORK/ref-$s-$sm.png" >/dev/null 2>&1
@@ -77,14 +77,16 @@ done
 # glass spheres' rooms answer without the walk (world_rooms.c): book2-final's
 # smoke in a glass sphere, book3-final's glass sphere.
 # So do the paths eight at a time in AVX-512 lanes (path_lanes.c), which
-# quads-only scenes without light sampling run on CPUs that have them.
-for s in book2-final book3-final cornell-box quads; do
-    A=(--scene $s "${T[@]}" --width 32 --height 24 -s 4 --max-depth 40 --no-light-sampling)
-    "$BIN" "${A[@]}" -j 2 -o "$WORK/walk-$s.png" >"$WORK/walk-$s.out" 2>&1
-    same_as "$s --accel brute" "$WORK/walk-$s.png" "$BIN" "${A[@]}" -j 2 --accel brute
+# quads-only scenes run on CPUs that have them, with light sampling or not.
+for item in book2-final book3-final cornell-box quads cornell-box-lit; do
+    s=${item%-lit} ls=--no-light-sampling
+    [ "$item" = "$s" ] || ls="" # -lit: with light sampling, the scene's default
+    A=(--scene "$s" "${T[@]}" --width 32 --height 24 -s 4 --max-depth 40 $ls)
+    "$BIN" "${A[@]}" -j 2 -o "$WORK/walk-$item.png" >"$WORK/walk-$item.out" 2>&1
+    same_as "$item --accel brute" "$WORK/walk-$item.png" "$BIN" "${A[@]}" -j 2 --accel brute
 done
 if grep -q avx512dq /proc/cpuinfo; then
-    for s in cornell-box quads; do
+    for s in cornell-box quads cornell-box-lit; do
         grep -q "avx-512 paths 8 a register" "$WORK/walk-$s.out" && pass "$s: paths in AVX-512 lanes" ||
             fail "$s: not in the lanes: $(grep intersector "$WORK/walk-$s.out")"
     done

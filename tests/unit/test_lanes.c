@@ -5,7 +5,8 @@
  * seen edge-on from the camera; a tiny one; one-sided and two-sided
  * lights facing both ways; a quad so far that its t overflows), with and
  * without the roulette, at depths from 1 to 40, on the scene's background
- * and under the sky;
+ * and under the sky, by brute force and with light sampling (MIS, and the
+ * lights' estimate alone);
  * and which jobs and scenes run in the lanes at all. On a CPU without
  * AVX-512 the lanes never run: the test says so and checks that. */
 #include <stdint.h>
@@ -204,21 +205,27 @@ int main(void)
             char name[64];
             snprintf(name, sizeof name, "%s%s", names[k], hard ? " with hard quads" : "");
             const uint32_t depths[3] = {40, 1, 3};
-            for (int d = 0; d < 3; d++) {
-                rt_job j = job;
-                j.max_depth = depths[d];
-                j.roulette = d != 1;
-                j.seed = 7 + (uint64_t)d;
-                check_same(name, &s, &j, avx512);
-            }
+            const int modes[3] = {RT_LIGHT_BRUTE, RT_LIGHT_MIS, RT_LIGHT_NEE_ONLY};
+            for (int m = 0; m < 3; m++)
+                for (int d = 0; d < 3; d++) {
+                    rt_job j = job;
+                    j.light = modes[m];
+                    j.max_depth = depths[d];
+                    j.roulette = d != 1;
+                    j.seed = 7 + (uint64_t)d;
+                    char lname[96];
+                    snprintf(lname, sizeof lname, "%s, %s", name,
+                             m == 0 ? "brute force" : m == 1 ? "lights by MIS" : "lights' estimate alone");
+                    check_same(lname, &s, &j, avx512);
+                }
             /* under book 1's sky gradient instead of the scene's background */
             s.background_kind = RT_BACKGROUND_SKY;
             check_same(name, &s, &job, avx512);
             rt_scene_free(&s);
         }
 
-    /* what runs in the lanes: not with light sampling, another sampler or
-     * diffuse model, buffers, spheres, textures or media */
+    /* what runs in the lanes: with or without light sampling; not another
+     * sampler or diffuse model, buffers, spheres, textures or media */
     rt_scene s;
     CHECK_EQ_INT(rt_scene_build_named(&s, "cornell-box", 42, 11, NULL), RT_OK);
     rt_accel *a, *brute;
@@ -227,14 +234,17 @@ int main(void)
     rt_renderer r;
     CHECK_EQ_INT(rt_render_init(&r, &s, a, &job), RT_OK);
     CHECK_EQ_INT(r.lanes, avx512);
-    rt_job lit = job, rnd = job, hemi = job, aov = job, adapt = job;
+    rt_job lit = job;
     lit.light = RT_LIGHT_MIS;
+    CHECK_EQ_INT(rt_render_init(&r, &s, a, &lit), RT_OK);
+    CHECK_EQ_INT(r.lanes, avx512);
+    rt_job rnd = job, hemi = job, aov = job, adapt = job;
     rnd.sampler = RT_SAMPLER_RANDOM;
     hemi.diffuse = RT_DIFFUSE_HEMISPHERE;
     aov.aov = RT_AOV_ALBEDO;
     adapt.noise_threshold = 0.05;
-    const rt_job *no[5] = {&lit, &rnd, &hemi, &aov, &adapt};
-    for (int i = 0; i < 5; i++) {
+    const rt_job *no[4] = {&rnd, &hemi, &aov, &adapt};
+    for (int i = 0; i < 4; i++) {
         CHECK_EQ_INT(rt_render_init(&r, &s, a, no[i]), RT_OK);
         CHECK_EQ_INT(r.lanes, 0);
     }
