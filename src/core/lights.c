@@ -318,6 +318,31 @@ double rt_lights_area_pdf(const rt_lights *l, uint32_t kind, uint32_t index)
     return lo < l->n ? l->items[lo].prob / l->items[lo].area : 0.0;
 }
 
+uint32_t rt_lights_quads(const rt_lights *l, rt_light_quads *q)
+{
+    if (!l || !l->n || l->n > RT_LIGHTS_QUAD_ROWS)
+        return 0;
+    for (uint32_t i = 0; i < l->n; i++) {
+        const light *L = &l->items[i];
+        if (!is_quad(L))
+            return 0;
+        const rt_vec3 v[4] = {L->a, L->b, L->c, L->n};
+        double(*rows[4])[RT_LIGHTS_QUAD_ROWS] = {q->a, q->b, q->c, q->n};
+        for (int k = 0; k < 4; k++) {
+            rows[k][0][i] = v[k].x;
+            rows[k][1][i] = v[k].y;
+            rows[k][2][i] = v[k].z;
+        }
+        q->area[i] = L->area;
+        q->prob[i] = L->prob;
+        q->emit[i] = L->emit;
+        q->cdf[i] = l->cdf[i];
+        q->one_sided[i] = L->one_sided ? 1.0 : 0.0;
+        q->quad[i] = (int64_t)(uint32_t)L->key;
+    }
+    return l->n;
+}
+
 double rt_lights_pdf_of(const rt_lights *l, uint32_t slot, rt_vec3 p, double time, rt_vec3 dir, double t)
 {
     const light *L = &l->items[slot];

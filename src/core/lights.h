@@ -89,6 +89,23 @@ double rt_lights_pdf(const rt_lights *l, rt_vec3 p, double time, rt_vec3 dir, ui
  * without looking its shape up. */
 double rt_lights_pdf_of(const rt_lights *l, uint32_t slot, rt_vec3 p, double time, rt_vec3 dir, double t);
 
+/* The list as rows of quads, for path_lanes.c's vector code (the same
+ * numbers rt_lights_sample and rt_lights_pdf_of use): each light's corner
+ * a and edges b, c, unit normal n, area, probability, luminance, the
+ * cumulative probability before the next (cdf), one_sided (1.0 or 0.0)
+ * and its quad. */
+#define RT_LIGHTS_QUAD_ROWS 8
+typedef struct rt_light_quads {
+    double a[3][RT_LIGHTS_QUAD_ROWS], b[3][RT_LIGHTS_QUAD_ROWS], c[3][RT_LIGHTS_QUAD_ROWS], n[3][RT_LIGHTS_QUAD_ROWS];
+    double area[RT_LIGHTS_QUAD_ROWS], prob[RT_LIGHTS_QUAD_ROWS], emit[RT_LIGHTS_QUAD_ROWS];
+    double cdf[RT_LIGHTS_QUAD_ROWS], one_sided[RT_LIGHTS_QUAD_ROWS];
+    int64_t quad[RT_LIGHTS_QUAD_ROWS];
+} rt_light_quads;
+
+/* Fills *q and returns the count of lights when they are all quads and at
+ * most RT_LIGHTS_QUAD_ROWS; else 0. */
+uint32_t rt_lights_quads(const rt_lights *l, rt_light_quads *q);
+
 /* Sampling targets: the scene's static glass spheres, which emit nothing
  * but through which a diffuse vertex's light can come (a caustic: the
  * glass between the light and the vertex, or beyond it), and which only a

@@ -60,22 +60,6 @@ static double transmittance(const rt_renderer *r, const rt_ray *ray, double t)
     return depth > 0.0 ? rt_det_exp_neg(depth) : 1.0;
 }
 
-/* Shadow-ray roulette (with the job's roulette): a shadow ray whose
- * light, were it unoccluded, would add less than a threshold (luminance of
- * throughput x albedo x emission x the BSDF over the light's density) is
- * traced with probability (that luminance / the threshold), its light
- * divided by that probability: unbiased, and faint vertices spend fewer
- * shadow rays. The thresholds, by CPU seconds x display-space MSE
- * (sampling version 10, docs/SAMPLING.md): in media (isotropic vertices
- * and path2.c's in-scattering: book2-final's thin fog, whose shadow rays
- * are most of its shadow rays and mostly occluded) 0.05; at surfaces 0.005,
- * since a surface's faint shadow rays are cheap and light the dark
- * regions where the viewer sees the noise (book3-final's ceiling, lit only
- * through the room: 0.05 there cost 1.25x the MSE at 8 spp, 256 x 256, for
- * 7 % less time). */
-#define RT_NEE_SHADOW_KEEP_MEDIA 0.05
-#define RT_NEE_SHADOW_KEEP_SURFACE 0.005
-
 /* A lambertian vertex in a scene with sampling targets (lights.h: its
  * glass spheres) aims one in RT_NEE_AIM_SLOTS of its scattered directions
  * at them (0: none). Why: book3-final's caustic, the light the glass

@@ -32,6 +32,22 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
     return rt_world_closest_from(r->world, ray, time, 0.001, INFINITY, from, h);
 }
 
+/* Shadow-ray roulette (with the job's roulette; nee.c, and path_lanes.c's lanes): a shadow ray whose
+ * light, were it unoccluded, would add less than a threshold (luminance of
+ * throughput x albedo x emission x the BSDF over the light's density) is
+ * traced with probability (that luminance / the threshold), its light
+ * divided by that probability: unbiased, and faint vertices spend fewer
+ * shadow rays. The thresholds, by CPU seconds x display-space MSE
+ * (sampling version 10, docs/SAMPLING.md): in media (isotropic vertices
+ * and path2.c's in-scattering: book2-final's thin fog, whose shadow rays
+ * are most of its shadow rays and mostly occluded) 0.05; at surfaces 0.005,
+ * since a surface's faint shadow rays are cheap and light the dark
+ * regions where the viewer sees the noise (book3-final's ceiling, lit only
+ * through the room: 0.05 there cost 1.25x the MSE at 8 spp, 256 x 256, for
+ * 7 % less time). */
+#define RT_NEE_SHADOW_KEEP_MEDIA 0.05
+#define RT_NEE_SHADOW_KEEP_SURFACE 0.005
+
 /* A vertex's scattering, as next-event estimation weighs a direction by
  * it: lambertian about normal n; isotropic (n zero); or a fuzzy metal
  * (fuzz > 0: the mirror direction m, unit, and the surface normal n). */

@@ -39,8 +39,8 @@
 
 /* sobol8's pair: the scattering's, a whole pair of a bounce of an even
  * number of dimensions, without light sampling or with it */
-_Static_assert(RT_SAMPLER2_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_LIT_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_SCATTER % 2 == 0 &&
-                   RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
+_Static_assert(RT_SAMPLER2_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_LIT_BOUNCE_DIMS % 2 == 0 &&
+                   RT_SAMPLER2_SCATTER % 2 == 0 && RT_SAMPLER2_LIGHT % 2 == 0 && RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
                "path_lanes.c: the book-2 layout of a bounce's dimensions changed");
 
 
@@ -80,12 +80,6 @@ uint32_t rt_path_lanes_run_pixels(uint32_t samples)
 
 #if RT_BVH_HAVE_AVX
 #include <immintrin.h>
-/* The dimensions of a bounce of r's paths (path2.c's context: no media and
- * no glass-sphere targets in the lanes' scenes). */
-static uint32_t lanes_stride(const rt_renderer *r)
-{
-    return r->lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS;
-}
 
 #ifdef __clang__
 #pragma clang attribute push(__attribute__((target("avx512f,avx512dq"))), apply_to = function)
@@ -94,11 +88,7 @@ static uint32_t lanes_stride(const rt_renderer *r)
 #pragma GCC target("avx512f,avx512dq")
 #endif
 
-#define B(x) _mm512_set1_pd(x)
-#define I(x) _mm512_set1_epi64((long long)(x))
-#define ADD _mm512_add_pd
-#define SUB _mm512_sub_pd
-#define MUL _mm512_mul_pd
+#include "lanes_math.h"
 
 /* The run's quads (rt_world_quad_rows) and what their hits do. */
 typedef struct quads {
@@ -127,8 +117,6 @@ typedef struct lane {
     double time;
     int64_t *px; /* its pixel's sums */
 } lane;
-
-#define LD(p) _mm512_load_pd(p)
 
 /* Nearest quad of eight rays in (T_MIN, inf): rt_quad_t's operations per
  * lane, the least t and on a tie the lowest quad; *id -1 for none. */
@@ -165,77 +153,6 @@ static inline __attribute__((always_inline)) __m512d closest8(const quads *Q, co
     return best;
 }
 
-/* sampler.h's Sobol 2D number of each lane's bounce (the book-2 layout's
- * scattering pair, RT_SAMPLER2_DIM_BOUNCE + stride depth +
- * RT_SAMPLER2_SCATTER over 2): rt_sampler_pair_keys, rt_sampler_nested and
- * rt_sampler_point_of on 64-bit lanes. The 32-bit steps' sums, products
- * and xors keep their low 32 bits in a lane's low half: masked at the end. */
-static inline __attribute__((always_inline)) __m512i mix8(__m512i z)
-{
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), I(RT_RNG_MIX_A));
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), I(RT_RNG_MIX_B));
-    return _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
-}
-
-static inline __attribute__((always_inline)) __m512i sobol8(__m512i depth, __m512i key, __m512i rev, uint32_t stride)
-{
-    const __m512i lo32 = I(0xffffffffULL);
-    const __m512i pair = _mm512_add_epi64(_mm512_mullo_epi64(depth, I(stride / 2)),
-                                          I((RT_SAMPLER2_DIM_BOUNCE + RT_SAMPLER2_SCATTER) / 2));
-    const __m512i h =
-        mix8(_mm512_xor_si512(key, _mm512_mullo_epi64(_mm512_add_epi64(pair, I(1)), I(RT_SAMPLER_PAIR_STEP))));
-    const __m512i seed = _mm512_and_si512(h, lo32);
-    const __m512i shift =
-        _mm512_or_si512(_mm512_andnot_si512(lo32, h), _mm512_srli_epi64(_mm512_mullo_epi64(h, I(RT_SAMPLER_SHIFT_MUL)), 32));
-    __m512i x = _mm512_add_epi64(rev, seed);
-    x = _mm512_xor_si512(x, _mm512_mullo_epi64(x, I(RT_SAMPLER_NESTED_A)));
-    x = _mm512_mullo_epi64(x, _mm512_or_si512(seed, I(1)));
-    x = _mm512_and_si512(_mm512_xor_si512(x, _mm512_mullo_epi64(x, I(RT_SAMPLER_NESTED_B))), lo32);
-    __m512i v = x;
-    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 1), I(0xaaaaaaaau)));
-    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 2), I(0xccccccccu)));
-    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 4), I(0xf0f0f0f0u)));
-    v = _mm512_xor_si512(v, _mm512_and_si512(_mm512_slli_epi64(v, 8), I(0xff00ff00u)));
-    v = _mm512_and_si512(_mm512_xor_si512(v, _mm512_slli_epi64(v, 16)), lo32);
-    return _mm512_xor_si512(_mm512_or_si512(_mm512_slli_epi64(x, 32), v), shift);
-}
-
-/* rt_warp_lambert_of(rt_warp_sphere(u), n) in eight lanes: z from u's
- * high 32 bits, the azimuth's quarter turn and its rest from the low 32,
- * the sine and cosine polynomials in sample.h's Horner order; n where n
- * plus the direction is near zero (rt_v3_near_zero). */
-static inline __attribute__((always_inline)) void lambert8(__m512i u, const __m512d n[3], __m512d d[3])
-{
-    const __m512d hi = _mm512_cvtepu64_pd(_mm512_srli_epi64(u, 32));
-    const __m512d z = ADD(SUB(MUL(hi, B(0x1.0p-31)), B(1.0)), B(0x1.0p-32));
-    const __m512d rho = _mm512_sqrt_pd(MUL(SUB(B(1.0), z), ADD(B(1.0), z)));
-    const __m512i q = _mm512_and_si512(u, I(0xffffffffULL));
-    const __m512i quarter = _mm512_srli_epi64(_mm512_and_si512(_mm512_add_epi64(q, I(0x20000000)), I(0xffffffffULL)), 30);
-    const __m512i rest = _mm512_srai_epi64(_mm512_slli_epi64(_mm512_sub_epi64(q, _mm512_slli_epi64(quarter, 30)), 32), 32);
-    const __m512d a = MUL(_mm512_cvtepi64_pd(rest), B(RT_SAMPLE_TURN_RADIANS));
-    const __m512d a2 = MUL(a, a);
-    static const double ks[6] = RT_SAMPLE_SIN_POLY, kc[7] = RT_SAMPLE_COS_POLY;
-    static const double qcos[8] = RT_SAMPLE_QUARTER_COS, qsin[8] = RT_SAMPLE_QUARTER_SIN;
-    __m512d ps = B(ks[0]), pc = B(kc[0]);
-    for (int i = 1; i < 6; i++)
-        ps = ADD(B(ks[i]), MUL(a2, ps));
-    for (int i = 1; i < 7; i++)
-        pc = ADD(B(kc[i]), MUL(a2, pc));
-    const __m512d sa = MUL(a, ps), ca = pc;
-    const __m512d qc = _mm512_permutexvar_pd(quarter, _mm512_loadu_pd(qcos));
-    const __m512d qs = _mm512_permutexvar_pd(quarter, _mm512_loadu_pd(qsin));
-    const __m512d c = SUB(MUL(ca, qc), MUL(sa, qs)), s = ADD(MUL(sa, qc), MUL(ca, qs));
-    d[0] = ADD(n[0], MUL(rho, c));
-    d[1] = ADD(n[1], MUL(rho, s));
-    d[2] = ADD(n[2], z);
-    const __m512d e = B(1e-8);
-    const __mmask8 zero = _mm512_cmp_pd_mask(_mm512_abs_pd(d[0]), e, _CMP_LT_OQ) &
-                          _mm512_cmp_pd_mask(_mm512_abs_pd(d[1]), e, _CMP_LT_OQ) &
-                          _mm512_cmp_pd_mask(_mm512_abs_pd(d[2]), e, _CMP_LT_OQ);
-    for (int k = 0; k < 3; k++)
-        d[k] = _mm512_mask_mov_pd(d[k], zero, n[k]);
-}
-
 /* One step of every live lane: its segment's hit, and where it scatters
  * on (a lambertian hit, within the depth limit). Returns the lanes that
  * go on; *miss and *emit: those whose path ends at the sky or a light
@@ -251,10 +168,11 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
         d[k] = LD(L->d[k]);
     }
     const __m512i depth = _mm512_load_si512(L->depth);
-    const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev), stride); /* ahead of the test */
+    /* the bounce's number, ahead of the test */
+    const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev), stride);
     __m512i id;
     const __m512d t = closest8(Q, o, d, &id);
-    _mm512_store_pd(L->t, t);
+    _mm512_store_pd(L->t, t); /* for an emitter's weight (end_light) */
     _mm512_store_si512(id_out, id);
     const __mmask8 hit = _mm512_mask_cmp_epi64_mask(live, id, _mm512_setzero_si512(), _MM_CMPINT_NLT);
     const __m512i idc = _mm512_max_epi64(id, _mm512_setzero_si512());
@@ -335,6 +253,104 @@ static void direct(const rt_renderer *r, const quads *Q, const lanes *L, lane *l
     const rt_vec3 weight = rt_v3_mul(rt_v3(L->thr0[0][l], L->thr0[1][l], L->thr0[2][l]),
                                      rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q]));
     p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, ln->time, &p->smp, segs));
+}
+
+/* rt_nee_direct at the lambertian vertices of the lanes in `lit`, when
+ * every light is a quad (rt_lights_quads): rt_lights_sample's choice and
+ * point, the shadow-ray roulette, the shadow ray (the light's quad is the
+ * nearest of the lanes' quads along it exactly when nothing stands in front
+ * of it, by the walks' rule of the least t and then the lowest quad), the
+ * emission toward it and the MIS weight, each lane in the scalar code's
+ * operations and order; its numbers the bounce's RT_SAMPLER2_LIGHT (the
+ * choice) and the pair after it (the point). Returns the lanes that traced
+ * a shadow ray; out[] the light each lane adds (0 where none). */
+static __attribute__((noinline)) __mmask8 nee8(const rt_renderer *r, const quads *Q, const rt_light_quads *LQ,
+                                               uint32_t nl, const lanes *L, __mmask8 lit, const int64_t id[8],
+                                               uint32_t stride, double out[3][8])
+{
+    const __m512i depth = _mm512_sub_epi64(_mm512_load_si512(L->depth), I(1)), key = _mm512_load_si512(L->key),
+                  rev = _mm512_load_si512(L->rev);
+    const __m512i pair = pair8(depth, stride, RT_SAMPLER2_LIGHT);
+    const __m512d u = unit8(_mm512_srli_epi64(point8(pair, key, rev), 32));
+    const __m512i u2 = point8(_mm512_add_epi64(pair, I(1)), key, rev);
+    /* the light u chooses: the first whose cdf passes u (the last if none) */
+    const __m512d cdf = _mm512_loadu_pd(LQ->cdf);
+    __m512i lo = _mm512_setzero_si512();
+    for (uint32_t i = 0; i + 1 < nl; i++)
+        lo = _mm512_mask_add_epi64(lo, _mm512_cmp_pd_mask(B(LQ->cdf[i]), u, _CMP_LE_OQ), lo, I(1));
+    const __m512i lo1 = _mm512_sub_epi64(lo, I(1));
+    const __m512d below = _mm512_mask_permutexvar_pd(_mm512_setzero_pd(),
+                                                     _mm512_cmp_epi64_mask(lo, _mm512_setzero_si512(), _MM_CMPINT_GT),
+                                                     lo1, cdf);
+#define ROW(x) _mm512_permutexvar_pd(lo, _mm512_loadu_pd(x))
+    const __m512d prob = ROW(LQ->prob), area = ROW(LQ->area), emit = ROW(LQ->emit);
+    const __m512d rr = _mm512_div_pd(SUB(u, below), prob);
+    const __m512d rest = _mm512_mask_mov_pd(
+        B(0x1.fffffffffffffp-1), _mm512_cmp_pd_mask(rr, B(1.0), _CMP_LT_OQ),
+        _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(rr, B(0.0), _CMP_GT_OQ), rr));
+    /* its point, the direction toward it and that direction's density */
+    const __m512d s = unit8(_mm512_srli_epi64(u2, 32)), t = unit8(_mm512_and_si512(u2, I(0xffffffffULL)));
+    __m512d p[3], n[3], ln[3], dir[3], d[3];
+    for (int k = 0; k < 3; k++) {
+        p[k] = LD(L->hp[k]);
+        n[k] = LD(L->hn[k]);
+        ln[k] = ROW(LQ->n[k]);
+        d[k] = SUB(ADD(ADD(ROW(LQ->a[k]), MUL(ROW(LQ->b[k]), s)), MUL(ROW(LQ->c[k]), t)), p[k]);
+    }
+    const __m512d len = _mm512_sqrt_pd(dot8(d, d)), facing = dot8(d, ln);
+    __mmask8 ok = lit & _mm512_cmp_pd_mask(len, B(0.0), _CMP_GT_OQ) & _mm512_cmp_pd_mask(facing, B(0.0), _CMP_NEQ_UQ) &
+                  (__mmask8)~(_mm512_cmp_pd_mask(ROW(LQ->one_sided), B(0.0), _CMP_NEQ_UQ) &
+                              _mm512_cmp_pd_mask(facing, B(0.0), _CMP_GT_OQ));
+    const __m512d inv = _mm512_div_pd(B(1.0), len);
+    for (int k = 0; k < 3; k++)
+        dir[k] = MUL(d[k], inv);
+    const __m512d c = _mm512_abs_pd(dot8(dir, ln));
+    const __mmask8 cpos = _mm512_cmp_pd_mask(c, B(0.0), _CMP_GT_OQ);
+    const __m512d pdf = MUL(prob, _mm512_maskz_div_pd(cpos, MUL(len, len), MUL(c, area)));
+    /* the lambertian vertex's cosine and density, the shadow-ray roulette */
+    const __m512d cosine = dot8(dir, n);
+    ok &= _mm512_cmp_pd_mask(cosine, B(0.0), _CMP_GT_OQ);
+    const __m512d pdf_bsdf = _mm512_div_pd(cosine, B(PI));
+    ok &= _mm512_cmp_pd_mask(pdf_bsdf, B(0.0), _CMP_GT_OQ);
+    const __m512i idc = _mm512_max_epi64(_mm512_load_si512(id), _mm512_setzero_si512());
+    __m512d w8[3];
+    for (int k = 0; k < 3; k++)
+        w8[k] = MUL(LD(L->thr0[k]), _mm512_i64gather_pd(idc, Q->col[k], 8));
+    const __m512d luma = ADD(ADD(MUL(B(0.2126), w8[0]), MUL(B(0.7152), w8[1])), MUL(B(0.0722), w8[2]));
+    const __m512d est = _mm512_div_pd(MUL(MUL(luma, emit), pdf_bsdf), pdf);
+    __m512d keep = B(1.0);
+    if (r->job.roulette) {
+        const __m512d lim = B(RT_NEE_SHADOW_KEEP_SURFACE), k = _mm512_div_pd(est, lim);
+        const __mmask8 low = _mm512_cmp_pd_mask(est, lim, _CMP_LT_OQ);
+        keep = _mm512_mask_mov_pd(keep, low, _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(rest, k, _CMP_LT_OQ), k));
+    }
+    ok &= _mm512_cmp_pd_mask(keep, B(0.0), _CMP_NEQ_UQ);
+    /* the shadow ray: the light, if it is the nearest quad along it */
+    __m512i near;
+    const __m512d th = closest8(Q, p, dir, &near);
+    const __m512i quad = _mm512_permutexvar_epi64(lo, _mm512_loadu_si512(LQ->quad));
+    __mmask8 lights = ok & _mm512_cmp_epi64_mask(near, quad, _MM_CMPINT_EQ);
+    __m512d qn[3], le[3];
+    for (int k = 0; k < 3; k++)
+        qn[k] = _mm512_i64gather_pd(quad, Q->row[3 + k], 8);
+    const __mmask8 faces = _mm512_cmp_pd_mask(dot8(dir, qn), B(0.0), _CMP_LT_OQ) |
+                           _mm512_cmp_pd_mask(_mm512_i64gather_pd(quad, Q->two_sided, 8), B(0.0), _CMP_NEQ_UQ);
+    __mmask8 glow = 0;
+    for (int k = 0; k < 3; k++) {
+        le[k] = _mm512_maskz_mov_pd(faces, _mm512_i64gather_pd(quad, Q->col[k], 8));
+        glow |= _mm512_cmp_pd_mask(le[k], B(0.0), _CMP_NEQ_UQ);
+    }
+    lights &= glow;
+    const __m512d pl = MUL(prob, _mm512_maskz_div_pd(cpos, MUL(th, th), MUL(c, area)));
+    lights &= _mm512_cmp_pd_mask(pl, B(0.0), _CMP_GT_OQ);
+    const __m512d w = r->job.light == RT_LIGHT_NEE_ONLY
+                          ? B(1.0)
+                          : _mm512_div_pd(MUL(pl, pl), ADD(MUL(pl, pl), MUL(pdf_bsdf, pdf_bsdf)));
+    const __m512d f = _mm512_div_pd(MUL(pdf_bsdf, w), MUL(pl, keep));
+    for (int k = 0; k < 3; k++)
+        _mm512_store_pd(out[k], _mm512_maskz_mov_pd(lights, MUL(MUL(w8[k], le[k]), f)));
+#undef ROW
+    return ok;
 }
 
 /* The roulette (path.h's path_roulette) of lane l after the bounce at
@@ -422,7 +438,10 @@ uint32_t rt_path_lanes_closest(const rt_world *w, const rt_scene *s, const rt_ra
     return Q.n;
 }
 
-static uint64_t lanes_run(run *R)
+/* A run's paths: lights (1 when the job samples them) and stride are
+ * constants in each of lanes_run's two copies, so that the brute-force
+ * one carries nothing of the lights' estimate. */
+static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const int lights, const uint32_t stride)
 {
     const rt_renderer *r = R->r;
     quads Q;
@@ -435,14 +454,23 @@ static uint64_t lanes_run(run *R)
         if (start(R, &L, &ln[l], l))
             live |= (__mmask8)(1u << l);
     uint64_t segs = 0;
-    const uint32_t max_depth = r->job.max_depth, stride = lanes_stride(r);
-    const int rr = r->job.roulette, lights = r->lights != NULL;
+    const uint32_t max_depth = r->job.max_depth;
+    const int rr = r->job.roulette;
+    rt_light_quads LQ;
+    const uint32_t nl = lights ? rt_lights_quads(r->lights, &LQ) : 0;
     while (live) {
         segs += (uint64_t)__builtin_popcount(live);
         __mmask8 miss, emit;
         int64_t __attribute__((aligned(64))) id[8];
         __mmask8 on = step8(&Q, &L, live, max_depth, stride, lights, &miss, &emit, id);
-        if (lights) /* the lights' estimate at the vertices within the depth limit, before their roulette */
+        if (nl && on) { /* the lights' estimate at the vertices within the depth limit, before their roulette */
+            double __attribute__((aligned(64))) add[3][8];
+            segs += (uint64_t)__builtin_popcount(nee8(r, &Q, &LQ, nl, &L, on, id, stride, add));
+            for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
+                const int l = __builtin_ctz(m);
+                ln[l].p.col = rt_v3_add(ln[l].p.col, rt_v3(add[0][l], add[1][l], add[2][l]));
+            }
+        } else if (lights) /* more lights, or not all quads: the scalar estimate */
             for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
                 const int l = __builtin_ctz(m);
                 direct(r, &Q, &L, &ln[l], l, (uint32_t)id[l], (uint32_t)L.depth[l] - 1, stride, &segs);
@@ -468,6 +496,14 @@ static uint64_t lanes_run(run *R)
         live = on;
     }
     return segs;
+}
+
+/* The stride of a bounce's dimensions is path2.c's (no media and no
+ * glass-sphere targets in the lanes' scenes). */
+static uint64_t lanes_run(run *R)
+{
+    const int lights = R->r->lights != NULL;
+    return lanes_body(R, lights, lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS);
 }
 
 #ifdef __clang__

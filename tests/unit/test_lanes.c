@@ -66,6 +66,19 @@ static void add_hard_quads(rt_scene *s)
                  RT_OK);
 }
 
+/* Nine more small lights, one-sided and two-sided: more than the lanes'
+ * vector estimate takes (RT_LIGHTS_QUAD_ROWS), so each lane's goes to the
+ * scalar rt_nee_direct. */
+static void add_many_lights(rt_scene *s)
+{
+    const uint32_t lit1 = add_mat(s, RT_MAT_EMITTER, rt_v3(6, 2, 1), 0);
+    const uint32_t lit2 = add_mat(s, RT_MAT_EMITTER, rt_v3(1, 2, 6), RT_MAT_TWO_SIDED);
+    for (int i = 0; i < 9; i++)
+        CHECK_EQ_INT(rt_scene_add_quad(s, rt_v3(60 + 50 * i, 500 - 20 * i, 100 + 30 * i), rt_v3(30, 0, 0),
+                                       rt_v3(0, i % 2 ? 30 : -30, 30), i % 3 ? lit1 : lit2, NULL),
+                     RT_OK);
+}
+
 /* The scene's render by the scalar loop and by the lanes, the same bits. */
 static void check_same(const char *name, const rt_scene *s, const rt_job *job, int lanes)
 {
@@ -197,13 +210,16 @@ int main(void)
                   .roulette = 1};
     const char *names[2] = {"cornell-box", "quads"};
     for (int k = 0; k < 2; k++)
-        for (int hard = 0; hard < 2; hard++) {
+        for (int hard = 0; hard < 3; hard++) {
             rt_scene s;
             CHECK_EQ_INT(rt_scene_build_named(&s, names[k], 42, 11, NULL), RT_OK);
-            if (hard)
+            if (hard == 1)
                 add_hard_quads(&s);
+            if (hard == 2)
+                add_many_lights(&s);
             char name[64];
-            snprintf(name, sizeof name, "%s%s", names[k], hard ? " with hard quads" : "");
+            snprintf(name, sizeof name, "%s%s", names[k],
+                     hard == 1 ? " with hard quads" : hard == 2 ? " with nine more lights" : "");
             const uint32_t depths[3] = {40, 1, 3};
             const int modes[3] = {RT_LIGHT_BRUTE, RT_LIGHT_MIS, RT_LIGHT_NEE_ONLY};
             for (int m = 0; m < 3; m++)
