@@ -1,9 +1,10 @@
 /* path_lanes.c - the book-2 path loop eight paths at a time, one in each
- * double lane of an AVX-512 register, for scenes of a few quads rendered
- * without light sampling (book 2's Cornell box and quads): every quad
- * tested against eight rays at once, the lambertian bounce and its Sobol
- * number in vector code, a lane whose path ends given the next sample at
- * once (of its pixel or of the run's next pixels). A path is one chain of
+ * double lane of an AVX-512 register, for scenes of a few quads (book 2's
+ * Cornell box and quads), by brute force or sampling their lights: every
+ * quad tested against eight rays at once, the lambertian bounce and its
+ * Sobol number in vector code, the lights' estimate at a vertex too (its
+ * shadow ray the same quad test), a lane whose path ends given the next
+ * sample at once (of its pixel or of the run's next pixels). A path is one chain of
  * dependent work (the division, the hit point, the bounce); eight
  * independent ones side by side turn its latency into throughput
  * (a probe measured the loop first: tools/lockstep_probe.sh at c3bff24).
@@ -15,9 +16,10 @@
  * the hit point, the normal facing the ray, the bounce (warp.h's
  * rt_warp_lambert_of of sample.h's unit vector: its quarter turns and
  * polynomials) and the throughput; the Sobol numbers are sampler.h's
- * definition, step by step; paths start (the camera), end (the sky,
- * emitters, the pixel's sums) and meet the roulette in the scalar code
- * trace2 runs. test e2e_book2 renders such scenes with the tree or brute
+ * definition, step by step, and so is the lights' estimate (nee8:
+ * nee.c's rt_nee_direct and lights.c's sampling); paths start (the
+ * camera), end (the sky, emitters weighed by rt_nee_weight, the pixel's
+ * sums) and meet the roulette in the scalar code trace2 runs. test e2e_book2 renders such scenes with the tree or brute
  * force (path2.c) and with the lanes: the same image. CPUs without
  * AVX-512 (F and DQ) run trace2. */
 #include "path_lanes.h"

@@ -1,5 +1,6 @@
 /* path_lanes.h - the book-2 path loop eight paths at a time in AVX-512
- * lanes (path_lanes.c), for scenes of a few quads without light sampling;
+ * lanes (path_lanes.c), for scenes of a few quads, lit by their sampled
+ * lights or by brute force;
  * the same image as path2.c's loop. Core-internal: team.c's runs of
  * pixels call it where the renderer says so (rt_renderer.lanes). */
 #ifndef RT_PATH_LANES_H
@@ -15,7 +16,7 @@
 
 /* 1 when r's job and scene can run in the lanes on this CPU: AVX-512 F and
  * DQ; a world of static quads only (at most 32), lambertian (no texture)
- * or emitting (no texture); no media; no light sampling; the lambertian
+ * or emitting (no texture); no media; lights sampled or not; the lambertian
  * diffuse model; the Sobol sampler; no buffers beyond the colour (no AOV,
  * no adaptive sampling); the world's default walk (rt_world_quad_rows). */
 int rt_path_lanes_for(const rt_renderer *r);
