@@ -102,21 +102,25 @@ typedef struct quads {
 } quads;
 
 /* The eight lanes: each one's ray, throughput, depth, and its sample's
- * sampler key and bit-reversed index (the Sobol numbers' inputs); with
- * light sampling also the density of the ray's direction (pdf: 0 for a
- * camera ray) and the last step's hit: its t, point, normal facing the
- * ray and the throughput that reached it (thr0). */
+ * sampler key and bit-reversed index (the Sobol numbers' inputs). */
 typedef struct lanes {
     _Alignas(64) double o[3][8];
     double d[3][8], thr[3][8];
     int64_t depth[8], key[8], rev[8];
-    double pdf[8], t[8], hp[3][8], hn[3][8], thr0[3][8];
 } lanes;
+
+/* What the lanes keep for light sampling (apart, so that the brute-force
+ * loop carries none of it): each lane's path time, the density of its
+ * ray's direction (pdf: 0 for a camera ray) and its last step's hit: t,
+ * point, normal facing the ray and the throughput that reached it (thr0). */
+typedef struct lit8 {
+    _Alignas(64) double pdf[8];
+    double t[8], hp[3][8], hn[3][8], thr0[3][8], time[8];
+} lit8;
 
 /* Each lane's path as the scalar code sees it (its light so far in p.col). */
 typedef struct lane {
     path p;
-    double time;
     int64_t *px; /* its pixel's sums */
 } lane;
 
@@ -160,7 +164,7 @@ static inline __attribute__((always_inline)) __m512d closest8(const quads *Q, co
  * go on; *miss and *emit: those whose path ends at the sky or a light
  * (their hit's quad in id[]), the lambertian ones that do not go on ended
  * by the depth limit. */
-static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lanes *L, __mmask8 live,
+static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lanes *L, lit8 *V, __mmask8 live,
                                                             uint32_t max_depth, uint32_t stride, int lights,
                                                             __mmask8 *miss, __mmask8 *emit, int64_t id_out[8])
 {
@@ -174,7 +178,8 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
     const __m512i u = sobol8(depth, _mm512_load_si512(L->key), _mm512_load_si512(L->rev), stride);
     __m512i id;
     const __m512d t = closest8(Q, o, d, &id);
-    _mm512_store_pd(L->t, t); /* for an emitter's weight (end_light) */
+    if (lights) /* for an emitter's weight (end_light) */
+        _mm512_store_pd(V->t, t);
     _mm512_store_si512(id_out, id);
     const __mmask8 hit = _mm512_mask_cmp_epi64_mask(live, id, _mm512_setzero_si512(), _MM_CMPINT_NLT);
     const __m512i idc = _mm512_max_epi64(id, _mm512_setzero_si512());
@@ -195,13 +200,13 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
     const __mmask8 bounce = hit & (__mmask8)~light;
     if (lights) { /* the vertex for the lights' estimate (scalar), and rt_nee_scatter's cosine density */
         for (int k = 0; k < 3; k++) {
-            _mm512_store_pd(L->hp[k], o[k]);
-            _mm512_store_pd(L->hn[k], n[k]);
-            _mm512_store_pd(L->thr0[k], LD(L->thr[k]));
+            _mm512_store_pd(V->hp[k], o[k]);
+            _mm512_store_pd(V->hn[k], n[k]);
+            _mm512_store_pd(V->thr0[k], LD(L->thr[k]));
         }
         const __m512d c = ADD(ADD(MUL(dn[0], n[0]), MUL(dn[1], n[1])), MUL(dn[2], n[2]));
         const __m512d len = _mm512_sqrt_pd(ADD(ADD(MUL(dn[0], dn[0]), MUL(dn[1], dn[1])), MUL(dn[2], dn[2])));
-        _mm512_store_pd(L->pdf, _mm512_mask_div_pd(LD(L->pdf), bounce, c, MUL(len, B(PI))));
+        _mm512_store_pd(V->pdf, _mm512_mask_div_pd(LD(V->pdf), bounce, c, MUL(len, B(PI))));
     }
     const __mmask8 on = bounce & _mm512_cmp_epi64_mask(next, I(max_depth), _MM_CMPINT_LT);
     for (int k = 0; k < 3; k++) {
@@ -220,8 +225,8 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
  * (surface2: weighed against the lights' estimate by rt_nee_weight when
  * the job samples them, else w = 1); nothing when the depth limit or the
  * roulette ended it. */
-static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, int l, int how, uint32_t q, rt_vec3 col,
-                         double time)
+static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, const lit8 *V, int l, int how,
+                         uint32_t q, rt_vec3 col)
 {
     const rt_vec3 thr = rt_v3(L->thr[0][l], L->thr[1][l], L->thr[2][l]);
     const rt_vec3 dir = rt_v3(L->d[0][l], L->d[1][l], L->d[2][l]);
@@ -233,8 +238,8 @@ static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, i
             double w = 1.0;
             if (r->lights) {
                 const rt_ray ray = {rt_v3(L->o[0][l], L->o[1][l], L->o[2][l]), dir};
-                const rt_whit h = {L->t[l], RT_SHAPE_QUAD, q, Q->mat[q]};
-                w = rt_nee_weight(r, &ray, L->pdf[l], &h, time);
+                const rt_whit h = {V->t[l], RT_SHAPE_QUAD, q, Q->mat[q]};
+                w = rt_nee_weight(r, &ray, V->pdf[l], &h, V->time[l]);
             }
             return rt_v3_add(col, rt_v3_scale(rt_v3_mul(thr, rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q])), w));
         }
@@ -245,7 +250,7 @@ static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, i
 /* The lights' estimate at lane l's lambertian vertex (path2.c's direct2,
  * scalar: rt_nee_direct by the bounce's light dimensions), added to the
  * path's light, its shadow rays to *segs. */
-static void direct(const rt_renderer *r, const quads *Q, const lanes *L, lane *ln, int l, uint32_t q, uint32_t depth,
+static void direct(const rt_renderer *r, const quads *Q, const lit8 *L, lane *ln, int l, uint32_t q, uint32_t depth,
                    uint32_t stride, uint64_t *segs)
 {
     path *p = &ln->p;
@@ -254,7 +259,7 @@ static void direct(const rt_renderer *r, const quads *Q, const lanes *L, lane *l
     const rt_vec3 at = rt_v3(L->hp[0][l], L->hp[1][l], L->hp[2][l]);
     const rt_vec3 weight = rt_v3_mul(rt_v3(L->thr0[0][l], L->thr0[1][l], L->thr0[2][l]),
                                      rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q]));
-    p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, ln->time, &p->smp, segs));
+    p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, L->time[l], &p->smp, segs));
 }
 
 /* rt_nee_direct at the lambertian vertices of the lanes in `lit`, when
@@ -267,11 +272,12 @@ static void direct(const rt_renderer *r, const quads *Q, const lanes *L, lane *l
  * choice) and the pair after it (the point). Returns the lanes that traced
  * a shadow ray; out[] the light each lane adds (0 where none). */
 static __attribute__((noinline)) __mmask8 nee8(const rt_renderer *r, const quads *Q, const rt_light_quads *LQ,
-                                               uint32_t nl, const lanes *L, __mmask8 lit, const int64_t id[8],
+                                               uint32_t nl, const lanes *L0, const lit8 *L, __mmask8 lit,
+                                               const int64_t id[8],
                                                uint32_t stride, double out[3][8])
 {
-    const __m512i depth = _mm512_sub_epi64(_mm512_load_si512(L->depth), I(1)), key = _mm512_load_si512(L->key),
-                  rev = _mm512_load_si512(L->rev);
+    const __m512i depth = _mm512_sub_epi64(_mm512_load_si512(L0->depth), I(1)), key = _mm512_load_si512(L0->key),
+                  rev = _mm512_load_si512(L0->rev);
     const __m512i pair = pair8(depth, stride, RT_SAMPLER2_LIGHT);
     const __m512d u = unit8(_mm512_srli_epi64(point8(pair, key, rev), 32));
     const __m512i u2 = point8(_mm512_add_epi64(pair, I(1)), key, rev);
@@ -381,7 +387,7 @@ typedef struct run {
 
 /* Lane l takes the run's next path, if any: its camera ray (trace2's
  * start). Returns 0 when none is left. */
-static int start(run *R, lanes *L, lane *ln, int l)
+static int start(run *R, lanes *L, lit8 *V, lane *ln, int l)
 {
     if (R->next == R->jobs)
         return 0;
@@ -392,14 +398,18 @@ static int start(run *R, lanes *L, lane *ln, int l)
         const uint32_t x = R->x0 + (uint32_t)(i % R->w), y = R->y0 + (uint32_t)(i / R->w);
         *pc = pixel_start(R->r, x, y, pixel_key(R->r, x, y), 0);
     }
-    rt_path2_start(R->r, pc, R->s0 + (uint32_t)(j % R->ns), &ln->p, &ln->time);
+    double time;
+    rt_path2_start(R->r, pc, R->s0 + (uint32_t)(j % R->ns), &ln->p, &time);
+    if (V) {
+        V->time[l] = time;
+        V->pdf[l] = 0.0; /* a camera ray's: an emitter it finds counts whole (rt_nee_weight) */
+    }
     ln->px = R->acc + i * R->r->lay.ch;
     const rt_ray *ray = &ln->p.ray;
     L->o[0][l] = ray->orig.x, L->o[1][l] = ray->orig.y, L->o[2][l] = ray->orig.z;
     L->d[0][l] = ray->dir.x, L->d[1][l] = ray->dir.y, L->d[2][l] = ray->dir.z;
     L->thr[0][l] = L->thr[1][l] = L->thr[2][l] = 1.0;
     L->depth[l] = 0;
-    L->pdf[l] = 0.0; /* a camera ray's: an emitter it finds counts whole (rt_nee_weight) */
     L->key[l] = (int64_t)pc->smp.key;
     L->rev[l] = (int64_t)ln->p.smp.rev_index;
     return 1;
@@ -449,11 +459,12 @@ static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const i
     quads Q;
     quads_of(r->world, r->scene, &Q);
     lanes L;
+    lit8 lit, *V = lights ? &lit : NULL;
     memset(&L, 0, sizeof L);
     lane ln[8];
     __mmask8 live = 0;
     for (int l = 0; l < 8; l++)
-        if (start(R, &L, &ln[l], l))
+        if (start(R, &L, V, &ln[l], l))
             live |= (__mmask8)(1u << l);
     uint64_t segs = 0;
     const uint32_t max_depth = r->job.max_depth;
@@ -464,10 +475,10 @@ static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const i
         segs += (uint64_t)__builtin_popcount(live);
         __mmask8 miss, emit;
         int64_t __attribute__((aligned(64))) id[8];
-        __mmask8 on = step8(&Q, &L, live, max_depth, stride, lights, &miss, &emit, id);
+        __mmask8 on = step8(&Q, &L, V, live, max_depth, stride, lights, &miss, &emit, id);
         if (nl && on) { /* the lights' estimate at the vertices within the depth limit, before their roulette */
             double __attribute__((aligned(64))) add[3][8];
-            segs += (uint64_t)__builtin_popcount(nee8(r, &Q, &LQ, nl, &L, on, id, stride, add));
+            segs += (uint64_t)__builtin_popcount(nee8(r, &Q, &LQ, nl, &L, V, on, id, stride, add));
             for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
                 const int l = __builtin_ctz(m);
                 ln[l].p.col = rt_v3_add(ln[l].p.col, rt_v3(add[0][l], add[1][l], add[2][l]));
@@ -475,7 +486,7 @@ static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const i
         } else if (lights) /* more lights, or not all quads: the scalar estimate */
             for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
                 const int l = __builtin_ctz(m);
-                direct(r, &Q, &L, &ln[l], l, (uint32_t)id[l], (uint32_t)L.depth[l] - 1, stride, &segs);
+                direct(r, &Q, V, &ln[l], l, (uint32_t)id[l], (uint32_t)L.depth[l] - 1, stride, &segs);
             }
         if (rr) /* the roulette of the lanes that bounced (their depth is the next one's) */
             for (__mmask8 m = on; m; m &= (__mmask8)(m - 1)) {
@@ -486,11 +497,11 @@ static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const i
         for (__mmask8 m = live & (__mmask8)~on; m; m &= (__mmask8)(m - 1)) {
             const int l = __builtin_ctz(m);
             const int how = (miss >> l) & 1 ? 1 : (emit >> l) & 1 ? 2 : 0;
-            const rt_vec3 c = end_light(r, &Q, &L, l, how, (uint32_t)id[l], ln[l].p.col, ln[l].time);
+            const rt_vec3 c = end_light(r, &Q, &L, V, l, how, (uint32_t)id[l], ln[l].p.col);
             ln[l].px[0] += rt_render_fix(c.x);
             ln[l].px[1] += rt_render_fix(c.y);
             ln[l].px[2] += rt_render_fix(c.z);
-            if (!start(R, &L, &ln[l], l))
+            if (!start(R, &L, V, &ln[l], l))
                 on &= (__mmask8)~(1u << l);
             else
                 on |= (__mmask8)(1u << l);
@@ -502,11 +513,15 @@ static inline __attribute__((always_inline)) uint64_t lanes_body(run *R, const i
 
 /* The stride of a bounce's dimensions is path2.c's (no media and no
  * glass-sphere targets in the lanes' scenes). */
-static uint64_t lanes_run(run *R)
+static __attribute__((noinline)) uint64_t lanes_run_lit(run *R)
 {
-    const int lights = R->r->lights != NULL;
-    return lanes_body(R, lights, lights ? RT_SAMPLER2_LIT_BOUNCE_DIMS : RT_SAMPLER2_BOUNCE_DIMS);
+    return lanes_body(R, 1, RT_SAMPLER2_LIT_BOUNCE_DIMS);
 }
+static __attribute__((noinline)) uint64_t lanes_run_brute(run *R)
+{
+    return lanes_body(R, 0, RT_SAMPLER2_BOUNCE_DIMS);
+}
+static uint64_t lanes_run(run *R) { return R->r->lights ? lanes_run_lit(R) : lanes_run_brute(R); }
 
 #ifdef __clang__
 #pragma clang attribute pop

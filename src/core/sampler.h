@@ -278,6 +278,9 @@ static inline void rt_sampler_for_pixel(rt_sampler_pixel *px, int kind, uint64_t
     if (kind == RT_SAMPLER_SOBOL)
         for (uint32_t k = 0; k < RT_SAMPLER_KEPT; k++)
             rt_sampler_pair_keys(key, k, &px->seed[k], &px->shift[k]);
+    else /* the random sampler keeps none: zeros, so that copies copy set bytes */
+        for (uint32_t k = 0; k < RT_SAMPLER_KEPT; k++)
+            px->seed[k] = 0, px->shift[k] = 0;
 }
 
 /* The sampler of sample `sample` of px's pixel (px must outlive it). */
