@@ -198,15 +198,14 @@ static inline __attribute__((always_inline)) __mmask8 step8(const quads *Q, lane
     lambert8(u, n, dn);
     const __m512i next = _mm512_add_epi64(depth, I(1));
     const __mmask8 bounce = hit & (__mmask8)~light;
-    if (lights) { /* the vertex for the lights' estimate (scalar), and rt_nee_scatter's cosine density */
+    if (lights) { /* the vertex for the lights' estimate, and rt_nee_scatter's cosine density */
         for (int k = 0; k < 3; k++) {
             _mm512_store_pd(V->hp[k], o[k]);
             _mm512_store_pd(V->hn[k], n[k]);
             _mm512_store_pd(V->thr0[k], LD(L->thr[k]));
         }
-        const __m512d c = ADD(ADD(MUL(dn[0], n[0]), MUL(dn[1], n[1])), MUL(dn[2], n[2]));
-        const __m512d len = _mm512_sqrt_pd(ADD(ADD(MUL(dn[0], dn[0]), MUL(dn[1], dn[1])), MUL(dn[2], dn[2])));
-        _mm512_store_pd(V->pdf, _mm512_mask_div_pd(LD(V->pdf), bounce, c, MUL(len, B(PI))));
+        const __m512d len = _mm512_sqrt_pd(dot8(dn, dn));
+        _mm512_store_pd(V->pdf, _mm512_mask_div_pd(LD(V->pdf), bounce, dot8(dn, n), MUL(len, B(PI))));
     }
     const __mmask8 on = bounce & _mm512_cmp_epi64_mask(next, I(max_depth), _MM_CMPINT_LT);
     for (int k = 0; k < 3; k++) {
