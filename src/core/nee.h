@@ -32,8 +32,8 @@ static inline int rt_nee_closest(const rt_renderer *r, const rt_ray *ray, double
     return rt_world_closest_from(r->world, ray, time, 0.001, INFINITY, from, h);
 }
 
-/* Shadow-ray roulette (with the job's roulette; nee.c, and path_lanes.c's lanes): a shadow ray whose
- * light, were it unoccluded, would add less than a threshold (luminance of
+/* Shadow-ray roulette (with the job's roulette; nee.c's, and path_lanes.c's
+ * in its lanes): a shadow ray whose light, were it unoccluded, would add less than a threshold (luminance of
  * throughput x albedo x emission x the BSDF over the light's density) is
  * traced with probability (that luminance / the threshold), its light
  * divided by that probability: unbiased, and faint vertices spend fewer

@@ -4,8 +4,8 @@
  * quad tested against eight rays at once, the lambertian bounce and its
  * Sobol number in vector code, the lights' estimate at a vertex too (its
  * shadow ray the same quad test), a lane whose path ends given the next
- * sample at once (of its pixel or of the run's next pixels). A path is one chain of
- * dependent work (the division, the hit point, the bounce); eight
+ * sample at once (of its pixel or of the run's next pixels). A path is
+ * one chain of dependent work (the division, the hit point, the bounce); eight
  * independent ones side by side turn its latency into throughput
  * (a probe measured the loop first: tools/lockstep_probe.sh at c3bff24).
  *
@@ -19,8 +19,9 @@
  * definition, step by step, and so is the lights' estimate (nee8:
  * nee.c's rt_nee_direct and lights.c's sampling); paths start (the
  * camera), end (the sky, emitters weighed by rt_nee_weight, the pixel's
- * sums) and meet the roulette in the scalar code trace2 runs. test e2e_book2 renders such scenes with the tree or brute
- * force (path2.c) and with the lanes: the same image. CPUs without
+ * sums) and meet the roulette in the scalar code trace2 runs. test
+ * e2e_book2 renders such scenes with the tree or brute force (path2.c) and
+ * with the lanes: the same image. CPUs without
  * AVX-512 (F and DQ) run trace2. */
 #include "path_lanes.h"
 
@@ -45,7 +46,6 @@ _Static_assert(RT_SAMPLER2_BOUNCE_DIMS % 2 == 0 && RT_SAMPLER2_LIT_BOUNCE_DIMS %
                    RT_SAMPLER2_SCATTER % 2 == 0 && RT_SAMPLER2_LIGHT % 2 == 0 && RT_SAMPLER2_DIM_BOUNCE % 2 == 0,
                "path_lanes.c: the book-2 layout of a bounce's dimensions changed");
 
-
 int rt_path_lanes_for(const rt_renderer *r)
 {
 #if RT_BVH_HAVE_AVX
@@ -53,8 +53,8 @@ int rt_path_lanes_for(const rt_renderer *r)
     if (!__builtin_cpu_supports("avx512f") || !__builtin_cpu_supports("avx512dq"))
         return 0;
     const rt_scene *s = r->scene;
-    if (!r->world || r->light_targets || r->job.diffuse != RT_DIFFUSE_LAMBERTIAN || r->job.sampler != RT_SAMPLER_SOBOL ||
-        r->lay.ch != 3 || s->media.media.n)
+    if (!r->world || r->light_targets || r->job.diffuse != RT_DIFFUSE_LAMBERTIAN ||
+        r->job.sampler != RT_SAMPLER_SOBOL || r->lay.ch != 3 || s->media.media.n)
         return 0;
     double rows[13 * LANES_QUADS];
     uint32_t mat[LANES_QUADS];
@@ -235,7 +235,7 @@ static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, c
         const rt_vec3 n = rt_v3(Q->row[3][q], Q->row[4][q], Q->row[5][q]);
         if (rt_v3_dot(dir, n) < 0.0 || Q->two_sided[q] != 0.0) {
             double w = 1.0;
-            if (r->lights) {
+            if (V) { /* the job samples its lights */
                 const rt_ray ray = {rt_v3(L->o[0][l], L->o[1][l], L->o[2][l]), dir};
                 const rt_whit h = {V->t[l], RT_SHAPE_QUAD, q, Q->mat[q]};
                 w = rt_nee_weight(r, &ray, V->pdf[l], &h, V->time[l]);
@@ -249,16 +249,16 @@ static rt_vec3 end_light(const rt_renderer *r, const quads *Q, const lanes *L, c
 /* The lights' estimate at lane l's lambertian vertex (path2.c's direct2,
  * scalar: rt_nee_direct by the bounce's light dimensions), added to the
  * path's light, its shadow rays to *segs. */
-static void direct(const rt_renderer *r, const quads *Q, const lit8 *L, lane *ln, int l, uint32_t q, uint32_t depth,
+static void direct(const rt_renderer *r, const quads *Q, const lit8 *V, lane *ln, int l, uint32_t q, uint32_t depth,
                    uint32_t stride, uint64_t *segs)
 {
     path *p = &ln->p;
     rt_sampler_seek(&p->smp, RT_SAMPLER2_DIM_BOUNCE + stride * depth + RT_SAMPLER2_LIGHT);
-    const rt_nee_bsdf b = {.n = rt_v3(L->hn[0][l], L->hn[1][l], L->hn[2][l])};
-    const rt_vec3 at = rt_v3(L->hp[0][l], L->hp[1][l], L->hp[2][l]);
-    const rt_vec3 weight = rt_v3_mul(rt_v3(L->thr0[0][l], L->thr0[1][l], L->thr0[2][l]),
+    const rt_nee_bsdf b = {.n = rt_v3(V->hn[0][l], V->hn[1][l], V->hn[2][l])};
+    const rt_vec3 at = rt_v3(V->hp[0][l], V->hp[1][l], V->hp[2][l]);
+    const rt_vec3 weight = rt_v3_mul(rt_v3(V->thr0[0][l], V->thr0[1][l], V->thr0[2][l]),
                                      rt_v3(Q->col[0][q], Q->col[1][q], Q->col[2][q]));
-    p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, L->time[l], &p->smp, segs));
+    p->col = rt_v3_add(p->col, rt_nee_direct(r, at, &b, weight, V->time[l], &p->smp, segs));
 }
 
 /* rt_nee_direct at the lambertian vertices of the lanes in `lit`, when
@@ -271,12 +271,11 @@ static void direct(const rt_renderer *r, const quads *Q, const lit8 *L, lane *ln
  * choice) and the pair after it (the point). Returns the lanes that traced
  * a shadow ray; out[] the light each lane adds (0 where none). */
 static __attribute__((noinline)) __mmask8 nee8(const rt_renderer *r, const quads *Q, const rt_light_quads *LQ,
-                                               uint32_t nl, const lanes *L0, const lit8 *L, __mmask8 lit,
-                                               const int64_t id[8],
-                                               uint32_t stride, double out[3][8])
+                                               uint32_t nl, const lanes *L, const lit8 *V, __mmask8 lit,
+                                               const int64_t id[8], uint32_t stride, double out[3][8])
 {
-    const __m512i depth = _mm512_sub_epi64(_mm512_load_si512(L0->depth), I(1)), key = _mm512_load_si512(L0->key),
-                  rev = _mm512_load_si512(L0->rev);
+    const __m512i depth = _mm512_sub_epi64(_mm512_load_si512(L->depth), I(1)), key = _mm512_load_si512(L->key),
+                  rev = _mm512_load_si512(L->rev);
     const __m512i pair = pair8(depth, stride, RT_SAMPLER2_LIGHT);
     const __m512d u = unit8(_mm512_srli_epi64(point8(pair, key, rev), 32));
     const __m512i u2 = point8(_mm512_add_epi64(pair, I(1)), key, rev);
@@ -299,8 +298,8 @@ static __attribute__((noinline)) __mmask8 nee8(const rt_renderer *r, const quads
     const __m512d s = unit8(_mm512_srli_epi64(u2, 32)), t = unit8(_mm512_and_si512(u2, I(0xffffffffULL)));
     __m512d p[3], n[3], ln[3], dir[3], d[3];
     for (int k = 0; k < 3; k++) {
-        p[k] = LD(L->hp[k]);
-        n[k] = LD(L->hn[k]);
+        p[k] = LD(V->hp[k]);
+        n[k] = LD(V->hn[k]);
         ln[k] = ROW(LQ->n[k]);
         d[k] = SUB(ADD(ADD(ROW(LQ->a[k]), MUL(ROW(LQ->b[k]), s)), MUL(ROW(LQ->c[k]), t)), p[k]);
     }
@@ -322,7 +321,7 @@ static __attribute__((noinline)) __mmask8 nee8(const rt_renderer *r, const quads
     const __m512i idc = _mm512_max_epi64(_mm512_load_si512(id), _mm512_setzero_si512());
     __m512d w8[3];
     for (int k = 0; k < 3; k++)
-        w8[k] = MUL(LD(L->thr0[k]), _mm512_i64gather_pd(idc, Q->col[k], 8));
+        w8[k] = MUL(LD(V->thr0[k]), _mm512_i64gather_pd(idc, Q->col[k], 8));
     const __m512d luma = ADD(ADD(MUL(B(0.2126), w8[0]), MUL(B(0.7152), w8[1])), MUL(B(0.0722), w8[2]));
     const __m512d est = _mm512_div_pd(MUL(MUL(luma, emit), pdf_bsdf), pdf);
     __m512d keep = B(1.0);
